@@ -1,0 +1,93 @@
+# Seamless AO: one entry point for setup, demo, tests, benchmarks and packaging.
+#
+#   make demo        set up .venv/5.0 and bake the built-in demo scene into out/
+#   make test        run the test suite on Blender 5.0, 4.2 LTS and 5.2 (bpy wheels)
+#   make test BLENDERS=5.0       ... on one Blender only
+#   make bench       speed-against-error report (out/bench/)
+#   make extension   download the xatlas wheels and build the installable zips (dist/)
+#
+# Every target creates what it needs: a virtualenv per Blender version under
+# .venv/<version>, with the pinned wheels of requirements/blender-<version>.txt.
+# The wheels are downloaded once into a wheelhouse inside the user's pip cache
+# (never into the repository), then installed from there without the index.
+
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DEFAULT_GOAL := help
+
+BLENDER ?= 5.0
+BLENDERS ?= 5.0 4.2 5.2
+PYTEST_ARGS ?=
+
+# Python version each bpy wheel is built for.
+PYVER_4.2 := 3.11
+PYVER_5.0 := 3.11
+PYVER_5.2 := 3.13
+
+# The first interpreter of that version that actually runs: on PATH, or pyenv's.
+find_python = $(shell for c in python$(1) $$(pyenv root 2>/dev/null)/versions/$(1)*/bin/python$(1) $(HOME)/.pyenv/versions/$(1)*/bin/python$(1); do \
+    if "$$c" -c "import sys; assert sys.version_info[:2] == tuple(map(int, '$(1)'.split('.')))" >/dev/null 2>&1; then echo "$$c"; break; fi; done)
+
+WHEELHOUSE ?= $(shell python3 -m pip cache dir 2>/dev/null || echo $(HOME)/.cache/pip)/seamless-ao-wheelhouse
+
+venv_dir = .venv/$(1)
+venv_python = .venv/$(1)/bin/python
+
+.PHONY: help setup demo test test-one bench extension validate clean
+
+help:
+	@sed -n '3,9p' Makefile | sed 's/^# \{0,1\}//'
+
+# .venv/<version>/.installed is rebuilt when the pins change.
+.venv/%/.installed: requirements/blender-%.txt
+	@py="$(call find_python,$(PYVER_$*))"; \
+	if [ -z "$$py" ]; then echo "error: Blender $* needs Python $(PYVER_$*), which was not found (on PATH or in pyenv)." >&2; exit 1; fi; \
+	echo "== Blender $*: virtualenv .venv/$* with $$py"; \
+	rm -rf .venv/$*; "$$py" -m venv .venv/$*; \
+	mkdir -p "$(WHEELHOUSE)"; \
+	echo "== Blender $*: fetching pinned wheels into $(WHEELHOUSE) (cached after the first time)"; \
+	.venv/$*/bin/python -m pip download --quiet --only-binary=:all: -d "$(WHEELHOUSE)" -r requirements/blender-$*.txt; \
+	echo "== Blender $*: installing from the wheelhouse"; \
+	.venv/$*/bin/python -m pip install --quiet --no-index --find-links "$(WHEELHOUSE)" -r requirements/blender-$*.txt; \
+	touch $@
+
+setup: .venv/$(BLENDER)/.installed
+
+demo: .venv/5.0/.installed
+	$(call venv_python,5.0) tests/demo.py --output-dir out
+
+test:
+	@for v in $(BLENDERS); do $(MAKE) --no-print-directory test-one BLENDER=$$v; done
+
+test-one: .venv/$(BLENDER)/.installed wheels/.downloaded
+	@echo "== Blender $(BLENDER): pytest"
+	$(call venv_python,$(BLENDER)) -m pytest tests $(PYTEST_ARGS)
+
+bench: .venv/5.0/.installed
+	$(call venv_python,5.0) tests/bench/report.py --output-dir out/bench
+
+# ---------------------------------------------------------------------------
+# Packaging: the zips bundle the xatlas wheels listed in blender_manifest.toml.
+
+XATLAS := 0.0.11
+XATLAS_PLATFORMS := manylinux_2_17_x86_64 win_amd64 macosx_11_0_arm64
+
+wheels/.downloaded: blender_manifest.toml
+	@mkdir -p wheels
+	@for py in 311 313; do for plat in $(XATLAS_PLATFORMS); do \
+	  python3 -m pip download --quiet --only-binary=:all: --no-deps --python-version $$py --platform $$plat \
+	    -d wheels xatlas==$(XATLAS); done; done
+	@touch $@
+
+BLENDER_EXT = $$(ls .venv/$(BLENDER)/lib/python*/site-packages/bpy/*/scripts/addons_core/bl_pkg/cli/blender_ext.py)
+
+validate: .venv/$(BLENDER)/.installed wheels/.downloaded
+	$(call venv_python,$(BLENDER)) $(BLENDER_EXT) validate .
+
+extension: .venv/$(BLENDER)/.installed wheels/.downloaded
+	@mkdir -p dist
+	$(call venv_python,$(BLENDER)) $(BLENDER_EXT) build --source-dir . --output-dir dist --split-platforms
+	@ls -1 dist/*.zip
+
+clean:
+	rm -rf .venv wheels dist out .pytest_cache

@@ -1,0 +1,291 @@
+"""Overlapping clusters of faces along the six signed axes (thesis §7.3), made injective.
+
+A face joins the chart of signed axis ``s`` when its normal lies within the
+compare angle of ``s`` (and all its triangles face ``s``), and it is
+connected to the chart through such faces.  So for each signed axis the charts
+are the connected components of the faces that qualify, and a face has at most
+one chart per axis: X, Y and Z.  A component becomes a chart when it holds at
+least one face whose dominant (closest) signed axis is ``s``; every face
+qualifies for its dominant axis whatever the angle, so every non-degenerate face
+lands in at least one chart.  This is the thesis' breadth-first growth from
+uncovered seeds, made independent of seed order.
+
+Signed axes (thesis' planes were unsigned, so the front and back of a thin part
+shared texels) are numbered ``0..5`` = +X, -X, +Y, -Y, +Z, -Z.
+
+The teapot problem (thesis §9): a chart can fold over itself in projection.
+:func:`make_injective` finds folds with :func:`.overlap.fold_conflicts` and
+splits the chart between two conflicting faces by breadth-first distance (a
+graph Voronoi split), until no chart has a conflict.
+"""
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .graph import Adjacency, connected_components
+from .overlap import fold_conflicts
+
+AXIS_NAMES = ("+X", "-X", "+Y", "-Y", "+Z", "-Z")
+#: (6, 3) unit vector of each signed axis.
+AXES = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64)
+#: (6, 2, 3) chart-plane basis (u, v) of each signed axis, with u x v = axis, so
+#: that looking at a face from outside its image is never mirrored.  Side charts
+#: keep +Z up.
+BASES = np.array([
+    [[0, 1, 0], [0, 0, 1]],     # +X: u = +Y, v = +Z
+    [[0, -1, 0], [0, 0, 1]],    # -X: u = -Y
+    [[-1, 0, 0], [0, 0, 1]],    # +Y: u = -X
+    [[1, 0, 0], [0, 0, 1]],     # -Y: u = +X
+    [[1, 0, 0], [0, 1, 0]],     # +Z: u = +X, v = +Y
+    [[1, 0, 0], [0, -1, 0]],    # -Z: v = -Y
+], dtype=np.float64)
+#: A triangle must face its chart's axis at least this much (cosine).
+FRONT_FACING = 0.01
+#: Overlapping triangles closer than this (relative to mesh size) in depth are one surface.
+SAME_SURFACE = 1.0e-6
+#: Chart boundaries closer than this (relative to mesh size) in 2D touch.
+TOUCH = 1.0e-7
+
+
+def project(points, signed_axis):
+    """Project points on the chart plane of their signed axis.
+
+    Parameters
+    ----------
+    points : (..., 3) float64
+    signed_axis : int or (...,) int, 0..5
+
+    Returns
+    -------
+    uv : (..., 2) float64, object units
+    depth : (...,) float64, distance along the signed axis
+    """
+    signed_axis = np.asarray(signed_axis)
+    axis = signed_axis // 2
+    pick = np.broadcast_to(np.stack([_U_COMPONENT[axis], _V_COMPONENT[axis], axis], -1),
+                           points.shape[:-1] + (3,))
+    coords = np.take_along_axis(points, pick, axis=-1)
+    uv = coords[..., :2] * np.stack([_U_SIGN[signed_axis], _V_SIGN[signed_axis]], -1)
+    depth = coords[..., 2] * _DEPTH_SIGN[signed_axis]
+    return uv, depth
+
+
+# The same bases as BASES, as component indices and signs (for speed).
+_U_COMPONENT = np.abs(BASES[::2, 0]).argmax(axis=1)
+_V_COMPONENT = np.abs(BASES[::2, 1]).argmax(axis=1)
+_U_SIGN = BASES[:, 0].sum(axis=1)
+_V_SIGN = BASES[:, 1].sum(axis=1)
+_DEPTH_SIGN = AXES.sum(axis=1)
+
+
+@dataclass
+class Charts:
+    """Faces grouped into charts.
+
+    Attributes
+    ----------
+    chart_of_face : (f, 3) int64
+        Chart holding each face on axis X, Y, Z; ``-1`` if none.
+    chart_axis : (c,) int64
+        Signed axis (0..5) of each chart; chart ``c`` lives on axis ``chart_axis[c] // 2``.
+    dominant_axis : (f,) int64
+        Signed axis closest to each face's normal; ``-1`` for degenerate faces.
+    splits : int
+        How many chart splits the injectivity repair made.
+    """
+
+    chart_of_face: np.ndarray
+    chart_axis: np.ndarray
+    dominant_axis: np.ndarray
+    splits: int = 0
+
+    @property
+    def count(self):
+        return len(self.chart_axis)
+
+    def faces_of_chart(self, chart):
+        """(k,) int64 faces of one chart, ascending."""
+        axis = int(self.chart_axis[chart]) // 2
+        return np.flatnonzero(self.chart_of_face[:, axis] == chart)
+
+    def dominant_chart(self):
+        """(f,) int64: each face's chart on its dominant axis (``-1`` for degenerate faces)."""
+        out = np.full(len(self.dominant_axis), -1, dtype=np.int64)
+        live = self.dominant_axis >= 0
+        out[live] = self.chart_of_face[live, self.dominant_axis[live] // 2]
+        return out
+
+
+def face_axis_cosines(mesh):
+    """Per-face cosines to the six signed axes.
+
+    Returns
+    -------
+    face_cos : (f, 6) float64
+        Cosine between each face's (area-weighted) normal and each axis.
+    worst_cos : (f, 6) float64
+        Smallest cosine over the face's non-degenerate triangles (a warped
+        polygon may have triangles facing away from an axis its normal faces).
+    """
+    face_cos = mesh.face_normal @ AXES.T
+    worst_cos = np.full((mesh.face_count, 6), np.inf)
+    live = ~mesh.degenerate
+    np.minimum.at(worst_cos, mesh.triangle_face[live], mesh.triangle_normal[live] @ AXES.T)
+    worst_cos[~np.isfinite(worst_cos)] = -1.0
+    return face_cos, worst_cos
+
+
+def cluster_faces(mesh, topology, compare_angle=60.0):
+    """Overlapping signed-axis charts, made injective (no fold in any projection).
+
+    :func:`signed_axis_clusters` followed by :func:`make_injective`.
+    """
+    return make_injective(mesh, topology, signed_axis_clusters(mesh, topology, compare_angle))
+
+
+def signed_axis_clusters(mesh, topology, compare_angle=60.0):
+    """Overlapping signed-axis clusters (thesis §7.3 with signed axes), not yet injective.
+
+    Parameters
+    ----------
+    mesh : TriangleMesh
+    topology : Topology
+        From :func:`.adjacency.face_adjacency`.
+    compare_angle : float, degrees
+        A face joins a chart of axis ``s`` when its normal is within this angle of ``s``.
+
+    Returns
+    -------
+    Charts
+    """
+    face_cos, worst_cos = face_axis_cosines(mesh)
+    live = ~mesh.face_degenerate
+    dominant = np.where(live, np.argmax(face_cos, axis=1), -1)
+    threshold = np.cos(np.radians(compare_angle))
+    edges = topology.face_edges
+    chart_of_face = np.full((mesh.face_count, 3), -1, dtype=np.int64)
+    chart_axis = []
+    for axis in range(3):
+        sign_of_face = np.full(mesh.face_count, -1, dtype=np.int64)
+        for signed in (2 * axis, 2 * axis + 1):
+            qualifies = live & (
+                ((face_cos[:, signed] >= threshold) & (worst_cos[:, signed] > FRONT_FACING))
+                | (dominant == signed))
+            sign_of_face[qualifies] = signed
+        same = (sign_of_face[edges[:, 0]] >= 0) & (sign_of_face[edges[:, 0]] == sign_of_face[edges[:, 1]])
+        component = connected_components(mesh.face_count, edges[same])
+        seeded = np.zeros(mesh.face_count, dtype=bool)
+        seeded[component[dominant == sign_of_face]] = True    # holds a face dominant on this sign
+        member = (sign_of_face >= 0) & seeded[component]
+        chart_ids, local = np.unique(component[member], return_inverse=True)
+        first_face = np.flatnonzero(member)[np.unique(local, return_index=True)[1]]
+        chart_of_face[member, axis] = len(chart_axis) + local.reshape(-1)
+        chart_axis.extend(sign_of_face[first_face].tolist())
+    return Charts(chart_of_face, np.array(chart_axis, dtype=np.int64), dominant.astype(np.int64))
+
+
+def triangle_chart_geometry(mesh, charts, axis):
+    """Triangles of the charts on one axis, projected.
+
+    Returns
+    -------
+    group : (t,) int64, chart of each triangle on this axis (``-1`` none or degenerate)
+    uv : (t, 3, 2) float64, depth : (t, 3) float64, slope : (t,) float64
+    """
+    group = charts.chart_of_face[mesh.triangle_face, axis].copy()
+    group[mesh.degenerate] = -1
+    signed = np.where(group >= 0, charts.chart_axis[np.maximum(group, 0)], 2 * axis)
+    corners = mesh.positions[mesh.triangles]
+    uv, depth = project(corners, signed[:, None])
+    cos = np.clip((mesh.triangle_normal * AXES[signed]).sum(1), 0.05, 1.0)
+    slope = np.sqrt(1.0 - cos**2) / cos
+    return group, uv, depth, slope
+
+
+def make_injective(mesh, topology, charts, margin=0.0):
+    """Split charts until none of them folds over itself in projection.
+
+    Parameters
+    ----------
+    mesh : TriangleMesh
+    topology : Topology
+    charts : Charts
+    margin : float, object units
+        Also split where two distant parts of a chart come closer than this in
+        projection (see :func:`.overlap.fold_conflicts`); use about two
+        texels so bilinear filtering never mixes distant surfaces.
+
+    Returns
+    -------
+    Charts, renumbered (deterministically) if anything was split.
+    """
+    adjacency = Adjacency(mesh.face_count, topology.face_edges)
+    chart_of_face = charts.chart_of_face.copy()
+    chart_axis = charts.chart_axis.copy()
+    for axis in range(3):
+        round_number = 0
+        dirty = None                     # charts to check; None = all of this axis
+        while True:
+            group, uv, depth, slope = triangle_chart_geometry(
+                mesh, replace(charts, chart_of_face=chart_of_face, chart_axis=chart_axis), axis)
+            if dirty is not None:
+                group[~np.isin(group, dirty)] = -1
+            pairs = fold_conflicts(
+                uv, depth, group, topology.welded_triangles, mesh.triangle_face,
+                SAME_SURFACE * mesh.scale, TOUCH * mesh.scale, margin, slope)
+            if not len(pairs):
+                break
+            round_number += 1
+            # One conflicting pair per chart at first; if a chart keeps folding
+            # (a many-turn helix), split at more pairs per round.
+            per_chart = 1 if round_number <= 8 else 2 ** min(round_number - 8, 16)
+            pair_chart = group[pairs[:, 0]]
+            order = np.argsort(pair_chart, kind="stable")
+            pairs, pair_chart = pairs[order], pair_chart[order]
+            rank = np.arange(len(pairs)) - np.searchsorted(pair_chart, pair_chart)
+            chosen = pairs[rank < per_chart]
+            sources = np.unique(mesh.triangle_face[chosen].ravel())
+            labels = np.full(mesh.face_count, -1, dtype=np.int64)
+            labels[sources] = np.arange(len(sources))
+            on_axis = chart_of_face[:, axis]
+            adjacency.grow_labels(labels, lambda s, t: on_axis[s] == on_axis[t])
+            split_faces = np.isin(on_axis, np.unique(pair_chart))
+            chart_of_face[:, axis], chart_axis = _relabel(
+                on_axis, labels, chart_axis, topology.face_edges, axis)
+            dirty = np.unique(chart_of_face[split_faces, axis])
+    result = _renumber(Charts(chart_of_face, chart_axis, charts.dominant_axis))
+    result.splits = charts.splits + result.count - charts.count
+    return result
+
+
+def _relabel(on_axis, labels, chart_axis, edges, axis):
+    """New charts on one axis: connected faces with the same (chart, label)."""
+    face_count = len(on_axis)
+    same = (on_axis[edges[:, 0]] >= 0) & (on_axis[edges[:, 0]] == on_axis[edges[:, 1]]) & (
+        labels[edges[:, 0]] == labels[edges[:, 1]])
+    component = connected_components(face_count, edges[same])
+    member = on_axis >= 0
+    new_on_axis = np.full(face_count, -1, dtype=np.int64)
+    unique, local = np.unique(component[member], return_inverse=True)
+    offset = len(chart_axis)
+    new_on_axis[member] = offset + local.reshape(-1)
+    first_face = np.flatnonzero(member)[np.unique(local, return_index=True)[1]]
+    new_axis = np.concatenate([chart_axis, chart_axis[on_axis[first_face]]])
+    return new_on_axis, new_axis
+
+
+def _renumber(charts):
+    """Drop unused chart ids; number charts by axis, then by their smallest face."""
+    used = []
+    for axis in range(3):
+        column = charts.chart_of_face[:, axis]
+        member = np.flatnonzero(column >= 0)
+        _, first = np.unique(column[member], return_index=True)
+        old = column[member[np.sort(first)]]
+        used.append(old)
+    old_ids = np.concatenate(used) if used else np.zeros(0, dtype=np.int64)
+    mapping = np.full(len(charts.chart_axis) + 1, -1, dtype=np.int64)
+    mapping[old_ids] = np.arange(len(old_ids))
+    chart_of_face = mapping[charts.chart_of_face]        # -1 maps to mapping[-1] == -1
+    return Charts(chart_of_face, charts.chart_axis[old_ids], charts.dominant_axis, charts.splits)

@@ -1,0 +1,147 @@
+"""Graph helpers over numpy arrays: no Python loop per node or edge.
+
+Nodes are ``0 .. count-1``; edges are ``(m, 2) int`` arrays of node pairs.
+"""
+
+import numpy as np
+
+
+def connected_components(count, edges):
+    """Label the connected components of an undirected graph.
+
+    Parameters
+    ----------
+    count : int
+        Number of nodes.
+    edges : (m, 2) int
+        Node pairs; self-loops and repeats are allowed.
+
+    Returns
+    -------
+    labels : (count,) int64
+        Component of each node, numbered ``0 ..`` in order of each component's
+        smallest node, so the result does not depend on edge order.
+
+    Union-find by hooking roots onto smaller roots and pointer jumping, all
+    vectorised: O((count + m) log count) in the worst case.
+    """
+    parent = np.arange(count, dtype=np.int64)
+    edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    u, v = edges[:, 0], edges[:, 1]
+    while u.size:
+        root_u, root_v = parent[u], parent[v]
+        pending = root_u != root_v
+        if not pending.any():
+            break
+        u, v = u[pending], v[pending]
+        low = np.minimum(root_u[pending], root_v[pending])
+        high = np.maximum(root_u[pending], root_v[pending])
+        # ``high`` is a root: hook it under the smallest root it touches.
+        np.minimum.at(parent, high, low)
+        parent = _compress(parent)
+    # Every node now points at its root, the smallest node of its component.
+    _, labels = np.unique(parent, return_inverse=True)
+    return labels.reshape(-1)
+
+
+def _compress(parent):
+    """Pointer jumping until every node points straight at its root."""
+    while True:
+        grand = parent[parent]
+        if np.array_equal(grand, parent):
+            return parent
+        parent = grand
+
+
+def group_starts(sorted_keys):
+    """Start index of each run of equal values in a sorted 1D array, plus the end."""
+    sorted_keys = np.asarray(sorted_keys)
+    if sorted_keys.size == 0:
+        return np.zeros(1, dtype=np.int64)
+    change = np.flatnonzero(sorted_keys[1:] != sorted_keys[:-1]) + 1
+    return np.concatenate(([0], change, [sorted_keys.size])).astype(np.int64)
+
+
+def pairs_within_groups(starts):
+    """All index pairs ``(i, j)``, ``i < j``, inside each group of a sorted array.
+
+    Parameters
+    ----------
+    starts : (g + 1,) int
+        Group boundaries as returned by :func:`group_starts`.
+
+    Returns
+    -------
+    pairs : (p, 2) int64
+        Positions into the sorted array; ``p = sum(k * (k - 1) / 2)`` over
+        group sizes ``k``.
+    """
+    starts = np.asarray(starts, dtype=np.int64)
+    size = starts[-1]
+    if size == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    group_end = np.repeat(starts[1:], np.diff(starts))
+    position = np.arange(size, dtype=np.int64)
+    partners = group_end - position - 1          # elements after this one in its group
+    total = int(partners.sum())
+    first = np.repeat(position, partners)
+    offset = np.arange(total, dtype=np.int64) - np.repeat(np.cumsum(partners) - partners, partners)
+    return np.stack([first, first + 1 + offset], axis=1)
+
+
+class Adjacency:
+    """Compressed sparse rows of an undirected graph, for frontier expansion.
+
+    Parameters
+    ----------
+    count : int
+        Number of nodes.
+    edges : (m, 2) int
+        Each undirected edge once (both directions are stored).
+    """
+
+    def __init__(self, count, edges):
+        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+        source = np.concatenate([edges[:, 0], edges[:, 1]])
+        target = np.concatenate([edges[:, 1], edges[:, 0]])
+        order = np.argsort(source, kind="stable")
+        self.count = count
+        self.target = target[order]
+        self.offsets = np.zeros(count + 1, dtype=np.int64)
+        np.cumsum(np.bincount(source, minlength=count), out=self.offsets[1:])
+
+    def neighbours(self, nodes):
+        """``(sources, targets)``: every edge leaving ``nodes``, as parallel arrays."""
+        nodes = np.asarray(nodes, dtype=np.int64)
+        begin, end = self.offsets[nodes], self.offsets[nodes + 1]
+        degree = end - begin
+        sources = np.repeat(nodes, degree)
+        index = np.repeat(begin - np.cumsum(degree) + degree, degree) + np.arange(int(degree.sum()))
+        return sources, self.target[index]
+
+    def grow_labels(self, labels, allowed):
+        """Breadth-first multi-source growth of labels.
+
+        Parameters
+        ----------
+        labels : (count,) int
+            ``>= 0`` on the sources, ``-1`` elsewhere.  Modified in place.
+        allowed : callable ``(sources, targets) -> (k,) bool``
+            Which edges labels may cross.
+
+        Every reachable unlabelled node takes the label of the source nearest
+        in hops; ties go to the smaller label.
+        """
+        frontier = np.flatnonzero(labels >= 0)
+        while frontier.size:
+            sources, targets = self.neighbours(frontier)
+            keep = (labels[targets] < 0) & allowed(sources, targets)
+            sources, targets = sources[keep], targets[keep]
+            if not targets.size:
+                break
+            order = np.lexsort((labels[sources], targets))
+            targets, sources = targets[order], sources[order]
+            first = group_starts(targets)[:-1]
+            labels[targets[first]] = labels[sources[first]]
+            frontier = targets[first]
+        return labels

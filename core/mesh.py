@@ -1,0 +1,230 @@
+"""The mesh as the core sees it, and what is wrong with it.
+
+A :class:`TriangleMesh` is triangles grouped into faces (Blender's polygons):
+every triangle of a face must land in the same chart, because Blender stores
+UVs per face corner.  All geometry is float64.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import SeamlessAOError
+from .graph import connected_components, group_starts
+
+#: Triangles with less area than this times the squared mesh size are degenerate.
+DEGENERATE_AREA = 1.0e-20
+#: Vertices closer than this times the mesh size are welded for adjacency.
+WELD_TOLERANCE = 1.0e-6
+
+
+@dataclass
+class TriangleMesh:
+    """Triangulated mesh in a float64 working space.
+
+    Attributes
+    ----------
+    positions : (v, 3) float64
+        Vertex positions.
+    triangles : (t, 3) int64
+        Vertex indices of each triangle, counter-clockwise seen from its front.
+    triangle_face : (t,) int64
+        Face (polygon) of each triangle; faces are numbered ``0 .. f-1``.
+    corner_normals : (t, 3, 3) float64
+        Shading normal at each triangle corner (flat faces: the face normal).
+    """
+
+    positions: np.ndarray
+    triangles: np.ndarray
+    triangle_face: np.ndarray
+    corner_normals: np.ndarray
+    face_count: int = 0
+    # Derived, filled by ``__post_init__``.
+    scale: float = field(init=False, default=1.0)
+    triangle_cross: np.ndarray = field(init=False, repr=False, default=None)
+    triangle_area: np.ndarray = field(init=False, repr=False, default=None)
+    triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
+    degenerate: np.ndarray = field(init=False, repr=False, default=None)
+
+    def __post_init__(self):
+        self.positions = np.ascontiguousarray(self.positions, dtype=np.float64).reshape(-1, 3)
+        self.triangles = np.ascontiguousarray(self.triangles, dtype=np.int64).reshape(-1, 3)
+        self.triangle_face = np.ascontiguousarray(self.triangle_face, dtype=np.int64).reshape(-1)
+        self.corner_normals = np.ascontiguousarray(self.corner_normals, dtype=np.float64).reshape(-1, 3, 3)
+        t = len(self.triangles)
+        if len(self.triangle_face) != t or len(self.corner_normals) != t:
+            raise ValueError("triangles, triangle_face and corner_normals must have the same length")
+        if t and (self.triangles.min() < 0 or self.triangles.max() >= len(self.positions)):
+            raise ValueError("triangle vertex index out of range")
+        if not np.isfinite(self.positions).all():
+            raise SeamlessAOError("The mesh has vertices at infinite or undefined (NaN) positions")
+        if not self.face_count:
+            self.face_count = int(self.triangle_face.max()) + 1 if t else 0
+        used = np.zeros(len(self.positions), dtype=bool)
+        used[self.triangles.ravel()] = True
+        self.scale = mesh_size(self.positions[used] if t else self.positions)
+        corners = self.positions[self.triangles]
+        self.triangle_cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        length = np.linalg.norm(self.triangle_cross, axis=1)
+        self.triangle_area = 0.5 * length
+        self.degenerate = self.triangle_area <= DEGENERATE_AREA * self.scale**2
+        self.triangle_normal = np.zeros_like(self.triangle_cross)
+        ok = ~self.degenerate
+        self.triangle_normal[ok] = self.triangle_cross[ok] / length[ok, None]
+        self.corner_normals = sanitized_normals(self.corner_normals, self.triangle_normal)
+
+    @classmethod
+    def from_triangles(cls, positions, triangles, smooth=False):
+        """One face per triangle; flat normals, or area-weighted vertex normals if ``smooth``."""
+        positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
+        triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+        corners = positions[triangles]
+        cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        if smooth:
+            vertex_normal = np.zeros_like(positions)
+            for k in range(3):
+                np.add.at(vertex_normal, triangles[:, k], cross)
+            normals = vertex_normal[triangles]
+        else:
+            normals = np.repeat(cross[:, None, :], 3, axis=1)
+        return cls(positions, triangles, np.arange(len(triangles)), normals)
+
+    @property
+    def face_normal(self):
+        """(f, 3) float64: area-weighted unit normal of each face (zero if degenerate)."""
+        summed = np.zeros((self.face_count, 3))
+        np.add.at(summed, self.triangle_face, self.triangle_cross)
+        length = np.linalg.norm(summed, axis=1)
+        out = np.zeros_like(summed)
+        ok = length > 2.0 * DEGENERATE_AREA * self.scale**2
+        out[ok] = summed[ok] / length[ok, None]
+        return out
+
+    @property
+    def face_degenerate(self):
+        """(f,) bool: faces whose triangles are all degenerate."""
+        live = np.zeros(self.face_count, dtype=bool)
+        live[self.triangle_face[~self.degenerate]] = True
+        return ~live
+
+
+def mesh_size(positions):
+    """Bounding-box diagonal of ``positions`` (v, 3); 1.0 for an empty or point-like set."""
+    positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
+    if not len(positions):
+        return 1.0
+    size = float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0)))
+    return size if size > 0.0 else 1.0
+
+
+def sanitized_normals(corner_normals, triangle_normal):
+    """Unit corner normals; zero, NaN or infinite ones replaced by the triangle's normal.
+
+    Parameters
+    ----------
+    corner_normals : (t, 3, 3) float
+    triangle_normal : (t, 3) float, unit or zero (degenerate triangles)
+
+    Returns
+    -------
+    (t, 3, 3) float64, every row unit length ((0, 0, 1) when nothing better exists).
+    """
+    normals = np.array(corner_normals, dtype=np.float64)
+    normals[~np.isfinite(normals).all(axis=2)] = 0.0
+    length = np.linalg.norm(normals, axis=2)
+    bad = length < 1.0e-12
+    fallback = np.broadcast_to(triangle_normal[:, None, :], normals.shape)
+    normals[bad] = fallback[bad]
+    length = np.linalg.norm(normals, axis=2)
+    still_bad = length < 1.0e-12
+    normals[still_bad] = (0.0, 0.0, 1.0)
+    length[still_bad] = 1.0
+    return normals / length[..., None]
+
+
+def weld_vertices(positions, tolerance):
+    """Merge vertices closer than about ``tolerance`` (union over shifted grids).
+
+    Parameters
+    ----------
+    positions : (v, 3) float64
+    tolerance : float, object units (> 0)
+
+    Returns
+    -------
+    welded : (v,) int64
+        New index of every vertex, ``0 .. w-1``, in order of first occurrence
+        (deterministic).  Two vertices within ``tolerance / 2`` on every axis
+        always weld; chains of close vertices weld transitively.
+    """
+    positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
+    count = len(positions)
+    if count == 0:
+        return np.zeros(0, dtype=np.int64)
+    cell = (positions - positions.min(axis=0)) / tolerance
+    cells_per_axis = np.floor(cell.max(axis=0)).astype(np.int64) + 2
+    single_key = float(np.prod(cells_per_axis.astype(np.float64))) < 2.0**62
+    edges = []
+    for shift in np.ndindex(2, 2, 2):
+        index = np.floor(cell + 0.5 * np.asarray(shift)).astype(np.int64)
+        if single_key:
+            keys = (index[:, 0] * cells_per_axis[1] + index[:, 1]) * cells_per_axis[2] + index[:, 2]
+            order = np.argsort(keys, kind="stable")
+            starts = group_starts(keys[order])
+        else:                      # far-flung vertices: sort the three cell indices instead
+            order = np.lexsort(index.T[::-1])
+            rows = index[order]
+            change = np.flatnonzero((rows[1:] != rows[:-1]).any(axis=1)) + 1
+            starts = np.concatenate(([0], change, [count]))
+        first = np.repeat(order[starts[:-1]], np.diff(starts))
+        edges.append(np.stack([first, order], axis=1)[first != order])
+    labels = connected_components(count, np.concatenate(edges))
+    _, first_seen, inverse = np.unique(labels, return_index=True, return_inverse=True)
+    rank = np.empty(len(first_seen), dtype=np.int64)
+    rank[np.argsort(first_seen, kind="stable")] = np.arange(len(first_seen))
+    return rank[inverse.reshape(-1)]
+
+
+@dataclass
+class MeshReport:
+    """What the core found in the input mesh; every count is also handled."""
+
+    vertices: int = 0
+    welded_vertices: int = 0
+    loose_vertices: int = 0
+    triangles: int = 0
+    faces: int = 0
+    degenerate_triangles: int = 0
+    degenerate_faces: int = 0
+    duplicate_triangles: int = 0
+    non_manifold_edges: int = 0
+    boundary_edges: int = 0
+    isolated_faces: int = 0
+
+    def problems(self):
+        """Human-readable list of the non-zero problem counts."""
+        names = (
+            ("loose_vertices", "loose vertices"),
+            ("degenerate_triangles", "zero-area triangles"),
+            ("duplicate_triangles", "duplicate triangles"),
+            ("non_manifold_edges", "non-manifold edges"),
+            ("isolated_faces", "isolated faces"),
+        )
+        return ["{} {}".format(getattr(self, key), text) for key, text in names if getattr(self, key)]
+
+
+def duplicate_triangle_count(welded_triangles):
+    """Triangles whose welded vertex set repeats an earlier triangle's (either winding)."""
+    if not len(welded_triangles):
+        return 0
+    keys = np.sort(welded_triangles, axis=1)
+    keys = keys[np.lexsort(keys.T[::-1])]
+    return int((keys[1:] == keys[:-1]).all(axis=1).sum())
+
+
+def require_faces(mesh):
+    """Raise a clear error for a mesh that has nothing to bake."""
+    if not len(mesh.triangles):
+        raise SeamlessAOError("The mesh has no faces to bake (only vertices or loose edges)")
+    if mesh.degenerate.all():
+        raise SeamlessAOError("Every face of the mesh has zero area; there is no surface to bake")

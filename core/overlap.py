@@ -1,0 +1,362 @@
+"""Which triangles of one chart overlap in the chart's projection.
+
+A chart is injective when no two of its triangles cover the same 2D point
+(shared edges and vertices excepted).  Candidates come from a uniform grid
+(each triangle is listed in the cells its box touches), so the cost is
+O(n log n) for any mesh whose triangles are not wildly different in size,
+never O(n²).
+"""
+
+import numpy as np
+
+from .graph import pairs_within_groups
+
+
+def candidate_pairs(uv, group, margin=0.0):
+    """Pairs of shapes of the same group whose 2D boxes come within ``margin``.
+
+    Parameters
+    ----------
+    uv : (t, c, 2) float64
+        Projected corners of each shape (triangles: c = 3, segments: c = 2).
+    group : (t,) int
+        Chart of each triangle; ``-1`` triangles are left out.
+    margin : float
+        Extra distance, in ``uv`` units.
+
+    Returns
+    -------
+    (p, 2) int64 shape pairs, ``i < j``, each once.
+    """
+    live = np.flatnonzero(group >= 0)
+    if len(live) < 2:
+        return np.zeros((0, 2), dtype=np.int64)
+    low = uv[live].min(axis=1) - 0.5 * margin
+    high = uv[live].max(axis=1) + 0.5 * margin
+    extent = high - low
+    # Cells about the size of a typical triangle, but never so small that the
+    # few huge triangles of a mixed mesh fill millions of cells.
+    cell = max(
+        float(np.median(extent.max(axis=1))),
+        float(np.sqrt((extent[:, 0] * extent[:, 1]).sum() / (4.0 * len(live)))),
+        1e-300,
+    )
+    origin = low.min(axis=0)
+    first = np.floor((low - origin) / cell).astype(np.int64)
+    last = np.floor((high - origin) / cell).astype(np.int64)
+    span = last - first + 1
+    count = span[:, 0] * span[:, 1]
+    entry = np.repeat(np.arange(len(live), dtype=np.int64), count)
+    local = np.arange(int(count.sum()), dtype=np.int64) - np.repeat(np.cumsum(count) - count, count)
+    cell_x = first[entry, 0] + local % span[entry, 0]
+    cell_y = first[entry, 1] + local // span[entry, 0]
+    order = np.lexsort((cell_y, cell_x, group[live][entry]))
+    entry, cell_x, cell_y = entry[order], cell_x[order], cell_y[order]
+    key_change = np.ones(len(entry), dtype=bool)
+    key_change[1:] = (
+        (cell_x[1:] != cell_x[:-1]) | (cell_y[1:] != cell_y[:-1])
+        | (group[live][entry[1:]] != group[live][entry[:-1]]))
+    starts = np.concatenate((np.flatnonzero(key_change), [len(entry)]))
+    pairs = live[entry[pairs_within_groups(starts)]]
+    if not len(pairs):
+        return np.zeros((0, 2), dtype=np.int64)
+    pairs = np.sort(pairs, axis=1)
+    keys = np.unique(pairs[:, 0] * np.int64(len(uv)) + pairs[:, 1])
+    return np.stack([keys // len(uv), keys % len(uv)], axis=1)
+
+
+def separated(uv_a, uv_b, margin):
+    """Separating-axis test for 2D triangles, with a margin.
+
+    Parameters
+    ----------
+    uv_a, uv_b : (k, 3, 2) float64
+    margin : float or (k,) float
+        The triangles count as touching unless some axis separates them by
+        more than ``margin``; a negative margin demands that much penetration.
+
+    Returns
+    -------
+    (k,) bool: True where an axis (x, y or an edge normal) separates them.
+    """
+    margin = np.broadcast_to(np.asarray(margin, dtype=np.float64), (len(uv_a),))
+    normals = []
+    for tri in (uv_a, uv_b):
+        edge = np.roll(tri, -1, axis=1) - tri
+        normal = np.stack([-edge[..., 1], edge[..., 0]], axis=-1)
+        length = np.linalg.norm(normal, axis=-1, keepdims=True)
+        normals.append(np.divide(normal, length, out=np.zeros_like(normal), where=length > 0))
+    unit = np.broadcast_to(np.eye(2), (len(uv_a), 2, 2))
+    axes = np.concatenate([unit] + normals, axis=1)                       # (k, 8, 2)
+    ax, ay = axes[..., 0], axes[..., 1]
+
+    def interval(tri):
+        p0, p1, p2 = (tri[:, c, 0, None] * ax + tri[:, c, 1, None] * ay for c in range(3))
+        return np.minimum(np.minimum(p0, p1), p2), np.maximum(np.maximum(p0, p1), p2)
+
+    low_a, high_a = interval(uv_a)
+    low_b, high_b = interval(uv_b)
+    gap = np.maximum(low_b - high_a, low_a - high_b)
+    live = (ax != 0) | (ay != 0)
+    return (live & (gap > margin[:, None])).any(axis=1)
+
+
+def _barycentric(points, tri):
+    """2D barycentric coordinates (k, 3) of ``points`` (k, 2) in ``tri`` (k, 3, 2)."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    v0, v1, v2 = b - a, c - a, points - a
+    den = v0[:, 0] * v1[:, 1] - v1[:, 0] * v0[:, 1]
+    den = np.where(np.abs(den) > 0, den, np.inf)
+    w1 = (v2[:, 0] * v1[:, 1] - v1[:, 0] * v2[:, 1]) / den
+    w2 = (v0[:, 0] * v2[:, 1] - v2[:, 0] * v0[:, 1]) / den
+    return np.stack([1.0 - w1 - w2, w1, w2], axis=1)
+
+
+def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
+    """Largest depth difference between two planar triangles over their 2D overlap.
+
+    The overlap of two triangles is a convex polygon whose corners are corners
+    of one triangle inside the other, or crossings of their edges; the depth
+    difference is linear over it, so its maximum sits at one of those points.
+
+    Parameters
+    ----------
+    uv_a, uv_b : (k, 3, 2) float64
+    depth_a, depth_b : (k, 3) float64
+        Depth (distance along the chart's axis) at each corner.
+
+    Returns
+    -------
+    (k,) float64: max |depth_a - depth_b| over the overlap, ``-1`` where the
+    interiors do not overlap.
+    """
+    k = len(uv_a)
+    gap = np.full(k, -1.0)
+    eps = 1e-9
+    for uv_p, depth_p, uv_q, depth_q in ((uv_a, depth_a, uv_b, depth_b), (uv_b, depth_b, uv_a, depth_a)):
+        for corner in range(3):
+            bary = _barycentric(uv_p[:, corner], uv_q)
+            inside = (bary > eps).all(axis=1)
+            diff = np.abs(depth_p[:, corner] - (bary * depth_q).sum(axis=1))
+            gap = np.where(inside, np.maximum(gap, diff), gap)
+    for i in range(3):
+        p0, p1 = uv_a[:, i], uv_a[:, (i + 1) % 3]
+        dp0, dp1 = depth_a[:, i], depth_a[:, (i + 1) % 3]
+        d1 = p1 - p0
+        for j in range(3):
+            q0, q1 = uv_b[:, j], uv_b[:, (j + 1) % 3]
+            dq0, dq1 = depth_b[:, j], depth_b[:, (j + 1) % 3]
+            d2 = q1 - q0
+            den = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+            r = q0 - p0
+            safe = np.where(np.abs(den) > 0, den, np.inf)
+            t = (r[:, 0] * d2[:, 1] - r[:, 1] * d2[:, 0]) / safe
+            u = (r[:, 0] * d1[:, 1] - r[:, 1] * d1[:, 0]) / safe
+            cross = (np.abs(den) > 0) & (t > eps) & (t < 1 - eps) & (u > eps) & (u < 1 - eps)
+            diff = np.abs(dp0 + t * (dp1 - dp0) - (dq0 + u * (dq1 - dq0)))
+            gap = np.where(cross, np.maximum(gap, diff), gap)
+    return gap
+
+
+def overlapping_triangles(uv, depth, group, welded_triangles, triangle_face, depth_tolerance):
+    """Every pair of triangles of one chart whose interiors overlap in projection.
+
+    The exhaustive check (all candidate pairs from the grid, exact separating
+    axis test): slower than :func:`fold_conflicts`, so the tests use it as the
+    independent judge of injectivity.
+
+    Parameters
+    ----------
+    uv : (t, 3, 2) float64
+        Corners projected on each triangle's chart plane.
+    depth : (t, 3) float64
+        Corner depth along the chart's signed axis.
+    group : (t,) int
+        Chart of each triangle (``-1``: not in a chart on this axis, or degenerate).
+    welded_triangles : (t, 3) int
+        Pairs sharing a welded vertex are left out (they meet there).
+    triangle_face : (t,) int
+        Pairs of one face are left out (a face cannot be split).
+    depth_tolerance : float
+        Overlaps whose depths differ by no more than this are the same surface
+        (coplanar duplicates), not a fold.
+
+    Returns
+    -------
+    (p, 2) int64 triangle pairs, ``i < j``, sorted.
+    """
+    pairs = candidate_pairs(uv, group)
+    if not len(pairs):
+        return pairs
+    low, high = uv.min(axis=1), uv.max(axis=1)
+    a, b = pairs[:, 0], pairs[:, 1]
+    boxes_touch = ((low[a] <= high[b]) & (low[b] <= high[a])).all(axis=1)
+    pairs = pairs[boxes_touch & (triangle_face[a] != triangle_face[b])]
+    a, b = pairs[:, 0], pairs[:, 1]
+    shares_vertex = (welded_triangles[a][:, :, None] == welded_triangles[b][:, None, :]).any(axis=(1, 2))
+    pairs = pairs[~shares_vertex]
+    a, b = pairs[:, 0], pairs[:, 1]
+    touching = ~separated(uv[a], uv[b], 0.0)
+    pairs, a, b = pairs[touching], a[touching], b[touching]
+    if not len(pairs):
+        return pairs
+    gap = overlap_depth_gap(uv[a], depth[a], uv[b], depth[b])
+    return pairs[gap > depth_tolerance]
+
+
+def segment_distance(p0, p1, q0, q1):
+    """Closest points of 2D segments ``p0-p1`` and ``q0-q1``.
+
+    Parameters
+    ----------
+    p0, p1, q0, q1 : (k, 2) float64
+
+    Returns
+    -------
+    distance : (k,) float64
+    s, t : (k,) float64
+        Parameters of the closest points on each segment, in [0, 1].
+    """
+    d1, d2, r = p1 - p0, q1 - q0, q0 - p0
+    options = []
+    for point, start, direction, on_first in ((q0, p0, d1, True), (q1, p0, d1, True),
+                                              (p0, q0, d2, False), (p1, q0, d2, False)):
+        length2 = (direction**2).sum(1)
+        param = np.clip(np.divide(((point - start) * direction).sum(1), length2,
+                                  out=np.zeros(len(length2)), where=length2 > 0), 0.0, 1.0)
+        gap = np.linalg.norm(start + param[:, None] * direction - point, axis=1)
+        options.append((gap, param, on_first))
+    distance = np.full(len(p0), np.inf)
+    s = np.zeros(len(p0))
+    t = np.zeros(len(p0))
+    for k, (gap, param, on_first) in enumerate(options):
+        better = gap < distance
+        distance = np.where(better, gap, distance)
+        fixed = float(k % 2)                     # the endpoint used: 0 for p0/q0, 1 for p1/q1
+        s = np.where(better, param if on_first else fixed, s)
+        t = np.where(better, fixed if on_first else param, t)
+    den = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    safe = np.where(den != 0, den, np.inf)
+    cs = (r[:, 0] * d2[:, 1] - r[:, 1] * d2[:, 0]) / safe
+    ct = (r[:, 0] * d1[:, 1] - r[:, 1] * d1[:, 0]) / safe
+    cross = (den != 0) & (cs >= 0) & (cs <= 1) & (ct >= 0) & (ct <= 1)
+    distance = np.where(cross, 0.0, distance)
+    s = np.where(cross, cs, s)
+    t = np.where(cross, ct, t)
+    return distance, s, t
+
+
+def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tolerance, touch, margin=0.0, slope=None):
+    """Triangle pairs that keep a chart from being injective, found from its boundary.
+
+    Every triangle of a chart faces the chart's axis, so the projection is an
+    orientation-preserving immersion wherever each vertex's fan turns once; an
+    immersion of a compact surface into the plane that is injective on its
+    boundary is injective everywhere.  So it suffices to check, per chart:
+
+    * boundary edges (sides used by one chart triangle) that come within
+      ``touch`` (or ``margin``) of each other in 2D, where their depths differ
+      by more than the tolerance plus what the slopes explain;
+    * vertices whose fan of chart triangles turns more than 360 degrees;
+    * edges shared by three or more chart triangles, two on the same side.
+
+    Boundaries are O(sqrt(n)) edges for well-shaped charts, so this costs
+    O(n log n) with a small constant, unlike testing all nearby triangle pairs.
+
+    Parameters
+    ----------
+    uv, depth, group, welded_triangles, triangle_face, depth_tolerance
+        As for :func:`overlapping_triangles`.
+    touch : float
+        2D distance treated as contact (e.g. coincident boundaries of stacked layers).
+    margin : float
+        Also report distant surfaces closer than this in 2D (about two texels).
+    slope : (t,) float, optional
+        |d depth / d uv| of each triangle.
+
+    Returns
+    -------
+    (p, 2) int64 triangle pairs, ``i < j``, unique; one pair per problem is
+    enough for the caller to split the chart between them.
+    """
+    found = [np.zeros((0, 2), dtype=np.int64)]
+    live = np.flatnonzero(group >= 0)
+    if len(live) < 2:
+        return found[0]
+    slope = np.zeros(len(uv)) if slope is None else slope
+    tri = np.repeat(live, 3)
+    corner = np.tile(np.arange(3), len(live))
+    v0 = welded_triangles[tri, corner]
+    v1 = welded_triangles[tri, (corner + 1) % 3]
+    low, high = np.minimum(v0, v1), np.maximum(v0, v1)
+    real = low != high
+    tri, corner, low, high = tri[real], corner[real], low[real], high[real]
+    order = np.lexsort((high, low, group[tri]))
+    tri, corner, low, high = tri[order], corner[order], low[order], high[order]
+    change = np.ones(len(tri), dtype=bool)
+    change[1:] = (low[1:] != low[:-1]) | (high[1:] != high[:-1]) | (group[tri[1:]] != group[tri[:-1]])
+    starts = np.concatenate((np.flatnonzero(change), [len(tri)]))
+    uses = np.diff(starts)
+
+    # 1. Boundary edges that touch or come close.
+    boundary = starts[:-1][uses == 1]
+    b_tri, b_corner = tri[boundary], corner[boundary]
+    seg = np.stack([uv[b_tri, b_corner], uv[b_tri, (b_corner + 1) % 3]], axis=1)     # (b, 2, 2)
+    seg_depth = np.stack([depth[b_tri, b_corner], depth[b_tri, (b_corner + 1) % 3]], axis=1)
+    reach = max(touch, margin)
+    pairs = candidate_pairs(seg, group[b_tri], reach)
+    if len(pairs):
+        a, b = pairs[:, 0], pairs[:, 1]
+        ends_a = np.stack([low[boundary][a], high[boundary][a]], 1)
+        ends_b = np.stack([low[boundary][b], high[boundary][b]], 1)
+        shared = (ends_a[:, :, None] == ends_b[:, None, :]).any(axis=(1, 2))
+        keep = ~shared & (triangle_face[b_tri[a]] != triangle_face[b_tri[b]])
+        a, b = a[keep], b[keep]
+        distance, s, t = segment_distance(seg[a, 0], seg[a, 1], seg[b, 0], seg[b, 1])
+        depth_a = seg_depth[a, 0] + s * (seg_depth[a, 1] - seg_depth[a, 0])
+        depth_b = seg_depth[b, 0] + t * (seg_depth[b, 1] - seg_depth[b, 0])
+        explained = depth_tolerance + distance * 2.0 * np.maximum(slope[b_tri[a]], slope[b_tri[b]])
+        close = (distance <= touch) | ((distance <= margin) & (margin > 0))
+        hit = close & (np.abs(depth_a - depth_b) > explained)
+        found.append(np.stack([b_tri[a][hit], b_tri[b][hit]], 1))
+
+    # 2. Vertices whose fan turns more than once.
+    corners = np.repeat(live, 3), np.tile(np.arange(3), len(live))
+    e1 = uv[corners[0], (corners[1] + 1) % 3] - uv[corners]
+    e2 = uv[corners[0], (corners[1] + 2) % 3] - uv[corners]
+    angle = np.abs(np.arctan2(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0], (e1 * e2).sum(1)))
+    vertex = welded_triangles[corners]
+    order = np.lexsort((vertex, group[corners[0]]))
+    v_sorted, g_sorted = vertex[order], group[corners[0]][order]
+    change = np.ones(len(order), dtype=bool)
+    change[1:] = (v_sorted[1:] != v_sorted[:-1]) | (g_sorted[1:] != g_sorted[:-1])
+    fan_starts = np.flatnonzero(change)
+    total = np.add.reduceat(angle[order], fan_starts) if len(order) else np.zeros(0)
+    for fan in np.flatnonzero(total > 2.0 * np.pi * (1.0 + 1e-6)):
+        members = corners[0][order[fan_starts[fan]:(fan_starts[fan + 1] if fan + 1 < len(fan_starts) else len(order))]]
+        cumulative = np.cumsum(angle[order[fan_starts[fan]:fan_starts[fan] + len(members)]])
+        other = int(np.searchsorted(cumulative, 2.0 * np.pi))
+        found.append(np.array([[members[0], members[min(other, len(members) - 1)]]], dtype=np.int64))
+
+    # 3. Sides shared by 3+ chart triangles: two of them on the same side overlap.
+    for start, count in zip(starts[:-1][uses > 2], uses[uses > 2]):
+        members = tri[start:start + count]
+        sides = corner[start:start + count]
+        edge_a = uv[members[0], sides[0]]
+        edge_b = uv[members[0], (sides[0] + 1) % 3]
+        third = uv[members, (sides + 2) % 3]
+        direction = edge_b - edge_a
+        side = np.sign(direction[0] * (third[:, 1] - edge_a[1]) - direction[1] * (third[:, 0] - edge_a[0]))
+        for i in range(count):
+            for j in range(i + 1, count):
+                if side[i] != side[j] or triangle_face[members[i]] == triangle_face[members[j]]:
+                    continue
+                one, two = members[[i]], members[[j]]
+                if overlap_depth_gap(uv[one], depth[one], uv[two], depth[two])[0] > depth_tolerance:
+                    found.append(np.array([[members[i], members[j]]], dtype=np.int64))
+
+    pairs = np.sort(np.concatenate(found), axis=1)
+    if not len(pairs):
+        return pairs
+    keys = np.unique(pairs[:, 0] * np.int64(len(uv)) + pairs[:, 1])
+    return np.stack([keys // len(uv), keys % len(uv)], axis=1)

@@ -1,0 +1,178 @@
+"""Every bake setting, defined once.
+
+:class:`BakeSettings` is the single source of truth: the scene's
+``PropertyGroup``, the operator's properties, the command line options and the
+Python API's keyword arguments are all generated from its fields, so names,
+defaults, limits and descriptions cannot drift apart.
+
+Each field's ``metadata`` holds what a UI needs:
+
+``label``        short name shown in the panel
+``description``  one sentence, used as tooltip and ``--help`` text
+``min``/``max``  hard limits (validated here, enforced by Blender's UI)
+``items``        for enums: ``(identifier, label, description)`` triples
+``unit``         human unit for docs ("°", "texels", "scene units", ...)
+"""
+
+import dataclasses
+from dataclasses import dataclass, field
+
+from .errors import SeamlessAOError
+
+
+def _setting(default, label, description, **extra):
+    return field(default=default, metadata=dict(label=label, description=description, **extra))
+
+
+FALLOFF_ITEMS = (
+    ("NONE", "None (binary)", "Classic AO: a hit within the max distance occludes fully (what Cycles computes)"),
+    ("LINEAR", "Linear", "A hit occludes less the farther away it is: 1 - distance / max distance (the thesis' falloff)"),
+    ("OBSCURANCE", "Obscurance", "Zhukov-style obscurance: a hit at distance d leaves sqrt(d / max distance) open"),
+)
+
+DISTRIBUTION_ITEMS = (
+    ("COSINE", "Cosine", "Rays cosine-distributed around the normal (Lambertian AO, as Cycles)"),
+    ("UNIFORM", "Uniform", "Rays spread evenly over the cone's solid angle (unweighted visibility)"),
+)
+
+SIZE_MODE_ITEMS = (
+    ("IMAGE_SIZE", "Image Size", "Choose the image size; the texel density is derived so that all charts fit"),
+    ("DENSITY", "Texel Density", "Choose texels per scene unit; the image is made as large as needed"),
+)
+
+SAVE_ITEMS = (
+    ("NONE", "Packed Only", "Keep the image packed in the .blend only"),
+    ("PNG", "16-bit PNG", "Also save the image as a 16-bit PNG next to the .blend"),
+    ("EXR", "OpenEXR", "Also save the image as a 32-bit float OpenEXR next to the .blend"),
+)
+
+
+@dataclass
+class BakeSettings:
+    """All settings of one bake.  Angles are in degrees, distances in scene units."""
+
+    # -- rays ------------------------------------------------------------------
+    rays: int = _setting(64, "Rays", "Rays cast per texel (the thesis' default is 64)", min=1, max=4096)
+    auto_distance: bool = _setting(
+        True, "Automatic Distance",
+        "Use half the object's bounding-box diagonal as the maximum ray distance")
+    max_distance: float = _setting(
+        1.0, "Max Distance",
+        "Hits farther than this do not occlude (scene units, used when Automatic Distance is off)",
+        min=0.0, max=1.0e12, unit="scene units")
+    cone_angle: float = _setting(
+        90.0, "Cone Angle", "Half-angle of the cone around the normal that rays are cast in (90° = hemisphere)",
+        min=1.0, max=90.0, unit="°")
+    falloff: str = _setting("NONE", "Falloff", "How a hit's distance changes how much it occludes", items=FALLOFF_ITEMS)
+    distribution: str = _setting("COSINE", "Distribution", "How rays are spread inside the cone", items=DISTRIBUTION_ITEMS)
+    ignore_backfaces: bool = _setting(
+        False, "Ignore Back Faces",
+        "Rays pass through faces seen from behind (open scans and single-sided meshes)")
+    horizon_bias: float = _setting(
+        0.0, "Horizon Bias", "Hits of rays this close to the tangent plane fade out, hiding faceting on coarse smooth meshes",
+        min=0.0, max=45.0, unit="°")
+    adaptive: bool = _setting(
+        True, "Adaptive Sampling",
+        "Stop after the first quarter of the rays when they all agree (all open or all blocked)")
+    denoise: bool = _setting(
+        False, "Denoise",
+        "Edge-aware filter over each texel's surface neighbours (never across creases or contact shadows)")
+    seed: int = _setting(0, "Seed", "Random seed; the same seed gives the same image", min=0, max=2**31 - 1)
+    use_scene_occluders: bool = _setting(
+        False, "Scene Occluders", "Other visible mesh objects of the scene also occlude (contact shadows)")
+    use_ground_plane: bool = _setting(
+        False, "Ground Plane", "An infinite horizontal plane at the object's lowest point occludes")
+
+    # -- charts and image --------------------------------------------------------
+    compare_angle: float = _setting(
+        60.0, "Compare Angle",
+        "A face joins an axis chart when its normal is within this angle of the axis (more = more overlap)",
+        min=30.0, max=85.0, unit="°")
+    size_mode: str = _setting("IMAGE_SIZE", "Resolution By", "How the image resolution is chosen", items=SIZE_MODE_ITEMS)
+    image_size: int = _setting(1024, "Image Size", "Width and height of the AO image", min=256, max=8192, unit="texels")
+    texel_density: float = _setting(
+        256.0, "Texel Density", "Texels per scene unit (used when Resolution By is Texel Density)",
+        min=1.0e-6, max=1.0e9, unit="texels per scene unit")
+    padding: int = _setting(
+        4, "Padding", "Texels around each chart that also get AO, so filtering never reads an empty texel",
+        min=2, max=32, unit="texels")
+    memory_budget_mb: int = _setting(
+        4096, "Memory Budget", "Refuse to start a bake estimated to need more memory than this",
+        min=64, max=1 << 20, unit="MB")
+
+    # -- output ------------------------------------------------------------------
+    hook_materials: bool = _setting(
+        True, "Multiply Into Materials",
+        "Multiply the AO into the Base Color of every Principled BSDF (off: only add the nodes)")
+    save_image: str = _setting("NONE", "Save Image", "Also write the image to a file next to the .blend", items=SAVE_ITEMS)
+
+    # ---------------------------------------------------------------------------
+
+    @classmethod
+    def from_kwargs(cls, **kwargs):
+        """Build validated settings from keyword arguments; unknown names are an error."""
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(kwargs) - names)
+        if unknown:
+            raise SeamlessAOError(
+                "Unknown setting{} {}; valid settings are: {}".format(
+                    "s" if len(unknown) > 1 else "", ", ".join(unknown), ", ".join(sorted(names))))
+        settings = cls(**kwargs)
+        settings.validate()
+        return settings
+
+    def replace(self, **kwargs):
+        """A validated copy with some settings changed."""
+        merged = dataclasses.asdict(self)
+        merged.update(kwargs)
+        return type(self).from_kwargs(**merged)
+
+    def validate(self):
+        """Raise :class:`SeamlessAOError` naming the first invalid setting; coerce numbers."""
+        for f in dataclasses.fields(self):
+            value = _coerce(f.name, type(f.default), getattr(self, f.name))
+            setattr(self, f.name, value)
+            meta = f.metadata
+            if "items" in meta:
+                valid = [item[0] for item in meta["items"]]
+                if value not in valid:
+                    raise SeamlessAOError("{} must be one of {} (got {!r})".format(f.name, ", ".join(valid), value))
+            if "min" in meta and value < meta["min"]:
+                raise SeamlessAOError("{} must be at least {} (got {})".format(f.name, meta["min"], value))
+            if "max" in meta and value > meta["max"]:
+                raise SeamlessAOError("{} must be at most {} (got {})".format(f.name, meta["max"], value))
+        if not self.auto_distance and self.max_distance <= 0.0:
+            raise SeamlessAOError(
+                "max_distance must be greater than 0 (got {}); turn on auto_distance to derive it "
+                "from the object's size".format(self.max_distance))
+        return self
+
+
+def _coerce(name, kind, value):
+    """``value`` converted to ``kind`` (bool, int, float or str), or a clear error."""
+    if kind is bool:
+        if isinstance(value, bool):
+            return value
+        raise SeamlessAOError("{} must be True or False (got {!r})".format(name, value))
+    if kind is str:
+        if isinstance(value, str):
+            return value
+        raise SeamlessAOError("{} must be text (got {!r})".format(name, value))
+    if isinstance(value, bool):
+        raise SeamlessAOError("{} must be a number (got {!r})".format(name, value))
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise SeamlessAOError("{} must be a number (got {!r})".format(name, value)) from None
+    if number != number or number in (float("inf"), float("-inf")):
+        raise SeamlessAOError("{} must be a finite number (got {!r})".format(name, value))
+    if kind is int:
+        if number != int(number):
+            raise SeamlessAOError("{} must be a whole number (got {!r})".format(name, value))
+        return int(number)
+    return number
+
+
+def setting_fields():
+    """The dataclass fields of :class:`BakeSettings`, in declaration order."""
+    return dataclasses.fields(BakeSettings)

@@ -1,0 +1,1 @@
+"""The ``Seamless AO`` shader node group and material hookup."""

@@ -1,0 +1,45 @@
+"""Helpers shared by the benchmark scripts: timing, peak memory, tables."""
+
+import resource
+import sys
+import time
+import tracemalloc
+
+sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parent.parent))
+
+import conftest  # noqa: E402,F401  (imports bpy and the package as ``seamless_ao``)
+
+
+class Stopwatch:
+    """``with Stopwatch() as sw: ...`` then ``sw.seconds``; also tracks peak numpy memory."""
+
+    def __init__(self, trace_memory=True):
+        self.trace_memory = trace_memory
+        self.seconds = 0.0
+        self.peak_mb = 0.0
+
+    def __enter__(self):
+        if self.trace_memory:
+            tracemalloc.start()
+        self.start = time.perf_counter()
+        return self
+
+    def __exit__(self, *exc):
+        self.seconds = time.perf_counter() - self.start
+        if self.trace_memory:
+            self.peak_mb = tracemalloc.get_traced_memory()[1] / 2**20
+            tracemalloc.stop()
+        return False
+
+
+def process_peak_mb():
+    """Peak resident memory of this process so far, MB (Linux ru_maxrss is KB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def markdown_table(headers, rows):
+    """A Markdown table as one string."""
+    lines = ["| " + " | ".join(headers) + " |", "|" + "|".join("---" for _ in headers) + "|"]
+    for row in rows:
+        lines.append("| " + " | ".join(str(c) for c in row) + " |")
+    return "\n".join(lines)
