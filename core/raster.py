@@ -1,0 +1,307 @@
+"""Texels of the atlas and the exact surface point each one samples (thesis §7.1.2-7.1.3).
+
+The thesis averaged triangle centres per texel ("patch"); here every texel
+centre maps to an exact surface point by barycentric interpolation in float64,
+with the interpolated shading normal.  Three kinds of texels get a point:
+
+``COVERED``  the texel centre lies in a chart triangle;
+``NEAR``     bilinear filtering at some point of a chart triangle reads this
+             texel (its centre is within one texel, L-infinity, of the
+             triangle): slivers thinner than a texel still get texels;
+``PADDING``  further rings around each chart, grown outward from the above.
+
+Near and padding texels take the point on the plane of their nearest chart
+triangle (extrapolated barycentrics), so filtering across a chart border
+continues the surface instead of reading an empty texel.
+
+Memory is linear in texels: two full-size maps while rasterising (8 bytes per
+image texel), then compact arrays of the texels in use (13 bytes each); points
+and normals are computed on demand for one batch at a time.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+COVERED, NEAR, PADDING = 0, 1, 2
+
+#: Rasterise at most this many candidate texels at once (bounds peak memory).
+CHUNK = 1 << 22
+
+
+@dataclass
+class Texels:
+    """The texels that carry AO.
+
+    Attributes
+    ----------
+    width, height : int
+    index : (n,) int64
+        Flat texel index ``y * width + x``, ascending.
+    member : (n,) int64
+        Atlas member (triangle in a chart) whose surface the texel samples.
+    kind : (n,) int8
+        :data:`COVERED`, :data:`NEAR` or :data:`PADDING`.
+    """
+
+    width: int
+    height: int
+    index: np.ndarray
+    member: np.ndarray
+    kind: np.ndarray
+
+    def __len__(self):
+        return len(self.index)
+
+    def xy(self, selection=slice(None)):
+        """(k, 2) int64 texel column and row."""
+        index = self.index[selection]
+        return np.stack([index % self.width, index // self.width], axis=1)
+
+
+def rasterise(atlas, mesh, padding=4):
+    """All texels that carry AO, with the member each one samples.
+
+    Scanline rasterisation: for every member triangle and texel row, the
+    covered texels are one interval (centres inside the triangle) and the
+    near texels another (centres within one texel of it); only the near
+    texels that no triangle covers are scored against each other.
+
+    Parameters
+    ----------
+    atlas : Atlas
+    mesh : TriangleMesh
+    padding : int
+        Rings of padding texels grown around the near texels of each chart.
+
+    Returns
+    -------
+    Texels
+    """
+    width, height = atlas.width, atlas.height
+    member_map = np.full(width * height, -1, dtype=np.int64 if width * height >= 2**31 else np.int32)
+    live = np.flatnonzero(atlas.member_placed & ~mesh.degenerate[atlas.member_triangle])
+    uv = atlas.member_uv[live]
+    low, high = uv.min(axis=1), uv.max(axis=1)
+    y0 = np.clip(np.ceil(low[:, 1] - 1.5), 0, height - 1).astype(np.int64)
+    y1 = np.clip(np.floor(high[:, 1] + 0.5), 0, height - 1).astype(np.int64)
+    rows = np.maximum(y1 - y0 + 1, 0)
+    row_member = np.repeat(np.arange(len(live)), rows)
+    row_y = np.repeat(y0, rows) + (np.arange(int(rows.sum())) - np.repeat(np.cumsum(rows) - rows, rows))
+    centre_y = row_y + 0.5
+    tri = uv[row_member]
+    inside_low, inside_high = _row_span(tri, centre_y, centre_y)
+    near_low, near_high = _row_span(tri, centre_y - 1.0, centre_y + 1.0)
+    c0 = np.clip(np.ceil(inside_low - 0.5), 0, width).astype(np.int64)
+    c1 = np.clip(np.floor(inside_high - 0.5), -1, width - 1).astype(np.int64)
+    n0 = np.clip(np.ceil(near_low - 1.5), 0, width).astype(np.int64)
+    n1 = np.clip(np.floor(near_high + 0.5), -1, width - 1).astype(np.int64)
+    covered = c1 >= c0
+
+    # Covered texels: every centre inside a triangle (a centre exactly on a
+    # shared edge goes to one of the two; both are the same surface there).
+    kind = np.full(width * height, PADDING, dtype=np.int8)
+    for texel, owner in _expand_spans(row_y, c0, c1, row_member, width):
+        member_map[texel] = live[owner]
+        kind[texel] = COVERED
+
+    # Near texels: the parts of each near span outside its own covered span
+    # that no triangle covers; the closest triangle wins.
+    left_end = np.where(covered, np.minimum(n1, c0 - 1), n1)
+    right_start = np.where(covered, np.maximum(n0, c1 + 1), n1 + 1)
+    winners = []
+    for first, last in ((n0, left_end), (right_start, n1)):
+        for texel, owner in _expand_spans(row_y, first, last, row_member, width):
+            free = member_map[texel] < 0
+            texel, owner = texel[free], owner[free]
+            centre = np.stack([texel % width + 0.5, texel // width + 0.5], axis=1)
+            score = triangle_score(uv[owner], centre)
+            keep = score > -np.inf
+            winners.append(_best_per_texel(texel[keep], score[keep], owner[keep]))
+    if winners:
+        texel, score, owner = (np.concatenate(column) for column in zip(*winners))
+        texel, _, owner = _best_per_texel(texel, score, owner)
+        member_map[texel] = live[owner]
+        kind[texel] = NEAR
+    _grow_padding(member_map, kind, width, height, padding)
+    index = np.flatnonzero(member_map >= 0)
+    return Texels(width, height, index, member_map[index].astype(np.int64), kind[index])
+
+
+def _best_per_texel(texel, score, owner):
+    """For each distinct texel, the entry with the highest score (ties: first)."""
+    order = np.lexsort((-score, texel))
+    texel, score, owner = texel[order], score[order], owner[order]
+    first = np.ones(len(texel), dtype=bool)
+    first[1:] = texel[1:] != texel[:-1]
+    return texel[first], score[first], owner[first]
+
+
+def _row_span(triangle, band_low, band_high):
+    """x-extent of each triangle (r, 3, 2) within a horizontal band [band_low, band_high] (r,).
+
+    Returns ``(low, high)``, ``(inf, -inf)`` where the band misses the triangle.
+    """
+    low = np.full(len(triangle), np.inf)
+    high = np.full(len(triangle), -np.inf)
+    x, y = triangle[..., 0], triangle[..., 1]
+    for k in range(3):                                   # corners inside the band
+        inside = (y[:, k] >= band_low) & (y[:, k] <= band_high)
+        low = np.where(inside, np.minimum(low, x[:, k]), low)
+        high = np.where(inside, np.maximum(high, x[:, k]), high)
+    for k in range(3):                                   # edges crossing the band's borders
+        px, py, qx, qy = x[:, k], y[:, k], x[:, (k + 1) % 3], y[:, (k + 1) % 3]
+        dy = qy - py
+        for line in (band_low, band_high):
+            crosses = (np.minimum(py, qy) <= line) & (line <= np.maximum(py, qy)) & (dy != 0)
+            at = px + (line - py) * (qx - px) / np.where(dy != 0, dy, 1.0)
+            low = np.where(crosses, np.minimum(low, at), low)
+            high = np.where(crosses, np.maximum(high, at), high)
+    return low, high
+
+
+def _expand_spans(row_y, x_start, x_end, owner, width):
+    """Flat texel indices of the spans ``x_start..x_end`` (inclusive) of each row, and their owners.
+
+    Yields ``(texel, owner)`` arrays of about :data:`CHUNK` entries at a time
+    (a span is never split, so one huge span may exceed it).
+    """
+    count = np.maximum(x_end - x_start + 1, 0)
+    ends = np.cumsum(count)
+    start = 0
+    while start < len(count):
+        stop = max(int(np.searchsorted(ends, ends[start] - count[start] + CHUNK, side="right")), start + 1)
+        part = count[start:stop]
+        row = start + np.repeat(np.arange(stop - start), part)
+        x = x_start[row] + (np.arange(int(part.sum())) - np.repeat(np.cumsum(part) - part, part))
+        yield row_y[row] * width + x, owner[row]
+        start = stop
+
+
+def triangle_score(triangle, point):
+    """How well a texel centre belongs to a triangle, in texels.
+
+    Parameters
+    ----------
+    triangle : (k, 3, 2) float64, texel coordinates
+    point : (k, 2) float64
+
+    Returns
+    -------
+    (k,) float64: signed distance from the triangle's boundary (positive
+    inside); ``-inf`` where a one-texel square around the point misses the
+    triangle (bilinear filtering inside the triangle never reads this texel).
+    """
+    a, b, c = triangle[:, 0], triangle[:, 1], triangle[:, 2]
+    area2 = _cross(b - a, c - a)
+    orientation = np.where(area2 < 0, -1.0, 1.0)
+    distances = []
+    for p, q in ((b, c), (c, a), (a, b)):              # edge opposite a, b, c
+        edge = q - p
+        length = np.linalg.norm(edge, axis=1)
+        signed = orientation * _cross(edge, point - p) / np.where(length > 0, length, np.inf)
+        support = np.divide(np.abs(edge).sum(axis=1), length, out=np.full(len(length), np.inf), where=length > 0)
+        distances.append((signed, support))
+    inside = np.min([d for d, _ in distances], axis=0)
+    reach = np.all([d >= -s - 1e-9 for d, s in distances], axis=0)
+    low, high = triangle.min(axis=1), triangle.max(axis=1)
+    box = np.all((point >= low - 1.0 - 1e-9) & (point <= high + 1.0 + 1e-9), axis=1)
+    return np.where(reach & box, inside, -np.inf)
+
+
+def _cross(a, b):
+    return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+
+
+_NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, 1), (1, -1), (-1, -1))
+
+
+def _grow_padding(member_map, kind_map, width, height, rings):
+    """Grow assigned texels outward by ``rings`` rings (8-neighbourhood), in place."""
+    assigned = (member_map >= 0).reshape(height, width)
+    inner = assigned.copy()                       # assigned with all 8 neighbours assigned
+    padded = np.pad(assigned, 1, constant_values=False)
+    for dx, dy in _NEIGHBOURS:
+        inner &= padded[1 + dy:1 + dy + height, 1 + dx:1 + dx + width]
+    frontier = np.flatnonzero(assigned & ~inner)
+    for _ in range(rings):
+        if not len(frontier):
+            return
+        x, y = frontier % width, frontier // width
+        targets, sources, ranks = [], [], []
+        for rank, (dx, dy) in enumerate(_NEIGHBOURS):
+            nx, ny = x + dx, y + dy
+            ok = (nx >= 0) & (nx < width) & (ny >= 0) & (ny < height)
+            target = ny[ok] * width + nx[ok]
+            empty = member_map[target] < 0
+            targets.append(target[empty])
+            sources.append(frontier[ok][empty])
+            ranks.append(np.full(int(empty.sum()), rank))
+        target, source, rank = np.concatenate(targets), np.concatenate(sources), np.concatenate(ranks)
+        order = np.lexsort((source, rank, target))
+        target, source = target[order], source[order]
+        first = np.ones(len(target), dtype=bool)
+        first[1:] = target[1:] != target[:-1]
+        target, source = target[first], source[first]
+        member_map[target] = member_map[source]
+        kind_map[target] = PADDING
+        frontier = target
+
+
+def texel_geometry(texels, atlas, mesh, selection=slice(None)):
+    """Surface point and normals sampled by some texels.
+
+    Parameters
+    ----------
+    texels : Texels
+    atlas : Atlas
+    mesh : TriangleMesh
+    selection : slice or index array into ``texels``
+
+    Returns
+    -------
+    points : (k, 3) float64
+        Exact surface point (on the member triangle's plane for near and
+        padding texels).
+    normals : (k, 3) float64
+        Unit interpolated shading normal (barycentrics clamped to the triangle).
+    geometric : (k, 3) float64
+        Unit normal of the member triangle.
+    """
+    member = texels.member[selection]
+    index = texels.index[selection]
+    x = (index % texels.width).astype(np.float64) + 0.5
+    y = (index // texels.width).astype(np.float64) + 0.5
+    triangle = atlas.member_triangle[member]
+    uv = atlas.member_uv[member]
+    b1, b2 = _barycentric12(uv, x, y)
+    b0 = 1.0 - b1 - b2
+    corner = mesh.triangles[triangle]
+    positions = mesh.positions
+    points = (b0[:, None] * positions[corner[:, 0]] + b1[:, None] * positions[corner[:, 1]]
+              + b2[:, None] * positions[corner[:, 2]])
+    c0, c1, c2 = np.maximum(b0, 0.0), np.maximum(b1, 0.0), np.maximum(b2, 0.0)
+    normals = mesh.corner_normals[triangle]
+    normals = c0[:, None] * normals[:, 0] + c1[:, None] * normals[:, 1] + c2[:, None] * normals[:, 2]
+    geometric = mesh.triangle_normal[triangle]
+    length = np.sqrt((normals * normals).sum(axis=1))[:, None]
+    ok = length > 1e-12
+    normals = np.where(ok, normals / np.where(ok, length, 1.0), geometric)
+    return points, normals, geometric
+
+
+def _barycentric12(triangle, x, y):
+    """Barycentric weights of corners 1 and 2 of 2D points (x, y) in triangles (k, 3, 2)."""
+    ax, ay = triangle[:, 0, 0], triangle[:, 0, 1]
+    v0x, v0y = triangle[:, 1, 0] - ax, triangle[:, 1, 1] - ay
+    v1x, v1y = triangle[:, 2, 0] - ax, triangle[:, 2, 1] - ay
+    v2x, v2y = x - ax, y - ay
+    den = v0x * v1y - v1x * v0y
+    den = np.where(den != 0, den, np.inf)
+    return (v2x * v1y - v1x * v2y) / den, (v0x * v2y - v2x * v0y) / den
+
+
+def barycentric(triangle, point):
+    """Barycentric coordinates (k, 3) of 2D points (k, 2) in triangles (k, 3, 2); may be negative."""
+    w1, w2 = _barycentric12(triangle, point[:, 0], point[:, 1])
+    return np.stack([1.0 - w1 - w2, w1, w2], axis=1)
