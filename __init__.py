@@ -1,15 +1,26 @@
 """Seamless AO: bake ambient occlusion for any mesh in one click.
 
-No UV unwrap by the user and no visible seams: triangles are clustered into
+No UV unwrap by the user and no visible seams: faces are clustered into
 overlapping charts along the six signed axes, AO is ray-cast for every texel
 at its exact surface point, and a node group blends three lookups with the
 squared object-space normal.  See README.md.
+
+Python API (also what the operator and the command line use)::
+
+    from bl_ext.user_default import seamless_ao
+    report = seamless_ao.bake([obj], rays=128)
+    seamless_ao.clear([obj])
 
 The package must be imported with relative imports only: Blender loads it as
 ``bl_ext.<repository>.seamless_ao``, the tests under another name.
 """
 
 from . import operators, panels
+from .core.errors import BakeCancelled, SeamlessAOError
+from .core.settings import BakeSettings
+from .operators.api import BakeReport, bake, clear, set_preview
+
+__all__ = ["bake", "clear", "set_preview", "BakeSettings", "BakeReport", "SeamlessAOError", "BakeCancelled"]
 
 
 def register():

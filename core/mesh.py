@@ -89,6 +89,27 @@ class TriangleMesh:
             normals = np.repeat(cross[:, None, :], 3, axis=1)
         return cls(positions, triangles, np.arange(len(triangles)), normals)
 
+    @classmethod
+    def concatenate(cls, meshes):
+        """One mesh holding several, each keeping its own tolerances (degenerate test, normals).
+
+        Returns ``(mesh, triangle_offsets)`` where part ``i`` owns triangles
+        ``triangle_offsets[i]:triangle_offsets[i + 1]``.
+        """
+        vertex_offsets = np.cumsum([0] + [len(m.positions) for m in meshes])
+        face_offsets = np.cumsum([0] + [m.face_count for m in meshes])
+        combined = cls(
+            np.concatenate([m.positions for m in meshes]),
+            np.concatenate([m.triangles + o for m, o in zip(meshes, vertex_offsets)]),
+            np.concatenate([m.triangle_face + o for m, o in zip(meshes, face_offsets)]),
+            np.concatenate([m.corner_normals for m in meshes]),
+            face_count=int(face_offsets[-1]),
+        )
+        for name in ("triangle_cross", "triangle_area", "triangle_normal", "degenerate", "corner_normals"):
+            setattr(combined, name, np.concatenate([getattr(m, name) for m in meshes]))
+        combined.scale = max(m.scale for m in meshes)
+        return combined, np.cumsum([0] + [len(m.triangles) for m in meshes])
+
     @property
     def face_normal(self):
         """(f, 3) float64: area-weighted unit normal of each face (zero if degenerate)."""

@@ -13,7 +13,7 @@ from .adjacency import face_adjacency
 from .atlas import chart_plane_area, estimate_density, pack_charts
 from .clustering import cluster_faces, make_injective
 from .errors import SeamlessAOError
-from .mesh import require_faces
+from .mesh import TriangleMesh, require_faces
 from .raster import rasterise
 
 #: Distant parts of one chart must stay this many texels apart (bilinear reads 1).
@@ -22,22 +22,32 @@ SEPARATION_TEXELS = 3.0
 
 @dataclass
 class Layout:
-    """Everything about where AO is stored, before any ray is cast."""
+    """Everything about where AO is stored, before any ray is cast.
+
+    Several meshes (objects baked together into one shared image) are one
+    combined mesh whose parts never share an edge or a chart:
+    ``part_of_triangle`` says which input mesh each triangle came from.
+    """
 
     mesh: object
     topology: object
     charts: object
     atlas: object
     texels: object
+    part_of_triangle: np.ndarray = None
     timings: dict = field(default_factory=dict)
 
+    def part_of_texel(self, selection=slice(None)):
+        """(k,) int: input mesh of each texel."""
+        return self.part_of_triangle[self.atlas.member_triangle[self.texels.member[selection]]]
 
-def build_layout(mesh, compare_angle=60.0, image_size=1024, density=None, padding=4):
-    """Charts, atlas and texels for a :class:`~.mesh.TriangleMesh`.
+
+def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padding=4):
+    """Charts, atlas and texels for one or several meshes (one shared image).
 
     Parameters
     ----------
-    mesh : TriangleMesh
+    meshes : TriangleMesh or list of TriangleMesh
     compare_angle : float, degrees
     image_size : int or None
         Square image size (used when ``density`` is None).
@@ -49,19 +59,25 @@ def build_layout(mesh, compare_angle=60.0, image_size=1024, density=None, paddin
     -------
     Layout
     """
-    require_faces(mesh)
+    meshes = [meshes] if isinstance(meshes, TriangleMesh) else list(meshes)
+    for mesh in meshes:
+        require_faces(mesh)
     timings = {}
     start = time.perf_counter()
-    topology = face_adjacency(mesh)
-    charts = cluster_faces(mesh, topology, compare_angle)
+    topologies = [face_adjacency(mesh) for mesh in meshes]
+    charts = [cluster_faces(mesh, topology, compare_angle) for mesh, topology in zip(meshes, topologies)]
     timings["charts"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    area = chart_plane_area(mesh, charts)
+    area = sum(chart_plane_area(mesh, c) for mesh, c in zip(meshes, charts))
     expected = density if density is not None else estimate_density(area, image_size)
     # A second pass keeps distant parts of a chart apart by a few texels, so
     # filtering at a chart's edge never mixes in AO from another surface.
-    charts = make_injective(mesh, topology, charts, margin=SEPARATION_TEXELS / expected)
+    charts = [make_injective(mesh, topology, c, margin=SEPARATION_TEXELS / expected)
+              for mesh, topology, c in zip(meshes, topologies, charts)]
+    mesh, offsets = TriangleMesh.concatenate(meshes) if len(meshes) > 1 else (meshes[0], np.array([0, len(meshes[0].triangles)]))
+    topology = merge_topologies(meshes, topologies) if len(meshes) > 1 else topologies[0]
+    charts = merge_charts(charts) if len(meshes) > 1 else charts[0]
     atlas = pack_charts(mesh, topology, charts, padding=padding,
                         image_size=None if density is not None else image_size, density=density)
     charts = atlas.charts
@@ -72,7 +88,39 @@ def build_layout(mesh, compare_angle=60.0, image_size=1024, density=None, paddin
     timings["rasterise"] = time.perf_counter() - start
     if not len(texels):
         raise SeamlessAOError("No texel landed on the mesh; raise the image size or texel density")
-    return Layout(mesh, topology, charts, atlas, texels, timings)
+    part = np.repeat(np.arange(len(meshes)), np.diff(offsets))
+    return Layout(mesh, topology, charts, atlas, texels, part, timings)
+
+
+def merge_topologies(meshes, topologies):
+    """One :class:`~.adjacency.Topology` for :meth:`TriangleMesh.concatenate`'d meshes."""
+    from .adjacency import Topology
+    from .mesh import MeshReport
+
+    welded_offsets = np.cumsum([0] + [int(t.welded.max()) + 1 if len(t.welded) else 0 for t in topologies])
+    face_offsets = np.cumsum([0] + [m.face_count for m in meshes])
+    report = MeshReport(**{
+        name: sum(getattr(t.report, name) for t in topologies) for name in MeshReport.__dataclass_fields__})
+    return Topology(
+        welded=np.concatenate([t.welded + o for t, o in zip(topologies, welded_offsets)]),
+        welded_triangles=np.concatenate([t.welded_triangles + o for t, o in zip(topologies, welded_offsets)]),
+        face_edges=np.concatenate([t.face_edges + o for t, o in zip(topologies, face_offsets)]),
+        report=report,
+    )
+
+
+def merge_charts(parts):
+    """One :class:`~.clustering.Charts` for several meshes' charts (ids offset, never shared)."""
+    from .clustering import Charts
+
+    offsets = np.cumsum([0] + [c.count for c in parts])
+    return Charts(
+        chart_of_face=np.concatenate([np.where(c.chart_of_face >= 0, c.chart_of_face + o, -1)
+                                      for c, o in zip(parts, offsets)]),
+        chart_axis=np.concatenate([c.chart_axis for c in parts]),
+        dominant_axis=np.concatenate([c.dominant_axis for c in parts]),
+        splits=sum(c.splits for c in parts),
+    )
 
 
 def estimated_bytes(texel_count, image_pixels):
@@ -94,3 +142,117 @@ def layer_lookup(atlas, mesh, triangle, bary):
     """
     uv = atlas.layer_uv()[triangle]                     # (k, 3 layers, 3 corners, 2)
     return np.einsum("kc,klcd->kld", bary, uv)
+
+
+class AOJob:
+    """AO of every texel of a layout, computed one batch per :meth:`step`.
+
+    The operator calls :meth:`step` once per timer event (each batch is about
+    ``batch_rays`` rays, a fraction of a second), so it can draw progress and
+    react to ESC between batches; :meth:`run` does it all at once.
+
+    Parameters
+    ----------
+    layout : Layout
+    parts : list of ``(params, caster, to_ray)``, one per input mesh
+        :class:`.ao.AOParams`, a caster (see :mod:`.ao`), and the mapping to
+        that mesh's ray space from :func:`.ao.ray_space`.
+    batch_rays : int
+    """
+
+    def __init__(self, layout, parts, batch_rays=1 << 20):
+        self.layout = layout
+        self.parts = parts
+        self.total = len(layout.texels)
+        self.ao = np.zeros(self.total, dtype=np.float32)
+        self.done = 0
+        self.rays_cast = 0
+        self.seconds = 0.0
+        self.rays_per_texel = max(p.rays for p, _, _ in parts)
+        self.batch = max(1, int(batch_rays // self.rays_per_texel))
+        # texels of one part together, in atlas order inside each part
+        self.order = np.lexsort((layout.texels.index, layout.part_of_texel()))
+
+    @property
+    def finished(self):
+        return self.done >= self.total
+
+    @property
+    def fraction(self):
+        return self.done / self.total if self.total else 1.0
+
+    def step(self):
+        """Compute the next batch; returns the fraction done."""
+        if self.finished:
+            return 1.0
+        from .ao import shade
+        from .raster import texel_geometry
+
+        start = time.perf_counter()
+        batch = self.order[self.done:self.done + self.batch]
+        part_of = self.layout.part_of_texel(batch)
+        for part in np.unique(part_of):
+            selection = batch[part_of == part]
+            params, caster, to_ray = self.parts[part]
+            points, normals, geometric = texel_geometry(
+                self.layout.texels, self.layout.atlas, self.layout.mesh, selection)
+            points, normals = to_ray(points, normals)
+            _, geometric = to_ray(points, geometric)
+            ao, rays = shade(points, normals, geometric, self.layout.texels.index[selection], params, caster)
+            self.ao[selection] = ao
+            self.rays_cast += rays
+        self.done += len(batch)
+        self.seconds += time.perf_counter() - start
+        return self.fraction
+
+    def run(self, should_cancel=None, progress=None):
+        """All batches; ``should_cancel()`` is polled between batches (raises :class:`BakeCancelled`)."""
+        from .errors import BakeCancelled
+
+        while not self.finished:
+            if should_cancel is not None and should_cancel():
+                raise BakeCancelled()
+            fraction = self.step()
+            if progress is not None:
+                progress(fraction)
+        return self.ao
+
+
+def texel_image(texels, values, fill_rings=None):
+    """The AO image (height, width) float32 from per-texel values.
+
+    Texels that carry no AO are filled by a pull-push pyramid from the ones
+    that do, so mip-mapping (EEVEE) and any filtering at a distance never pulls
+    in an empty (black, i.e. "fully occluded") texel.
+    """
+    width, height = texels.width, texels.height
+    image = np.zeros(width * height, dtype=np.float64)
+    weight = np.zeros(width * height, dtype=np.float64)
+    image[texels.index] = values
+    weight[texels.index] = 1.0
+    filled = pull_push(image.reshape(height, width), weight.reshape(height, width))
+    return filled.astype(np.float32)
+
+
+def pull_push(values, weight):
+    """Fill where ``weight`` is 0 from a weighted image pyramid; keep the rest exactly."""
+    if weight.min() > 0 or weight.max() == 0:
+        return np.where(weight > 0, values, values.mean() if weight.max() == 0 else values)
+    height, width = values.shape
+    sums = values * weight
+    # pull: 2x2 box-filter the weighted sums down to 1x1
+    levels = [(sums, weight)]
+    while levels[-1][0].shape[0] > 1 or levels[-1][0].shape[1] > 1:
+        s, w = levels[-1]
+        s = np.pad(s, ((0, s.shape[0] % 2), (0, s.shape[1] % 2)))
+        w = np.pad(w, ((0, w.shape[0] % 2), (0, w.shape[1] % 2)))
+        s = s[0::2, 0::2] + s[1::2, 0::2] + s[0::2, 1::2] + s[1::2, 1::2]
+        w = w[0::2, 0::2] + w[1::2, 0::2] + w[0::2, 1::2] + w[1::2, 1::2]
+        levels.append((s, w))
+    # push: each level's empty texels take the coarser level's average
+    s, w = levels[-1]
+    estimate = s / np.maximum(w, 1e-300)
+    for s, w in reversed(levels[:-1]):
+        up = np.repeat(np.repeat(estimate, 2, axis=0), 2, axis=1)[: s.shape[0], : s.shape[1]]
+        estimate = np.where(w > 0, s / np.maximum(w, 1e-300), up)
+    return np.where(weight > 0, values, estimate)

@@ -40,6 +40,11 @@ SIZE_MODE_ITEMS = (
     ("DENSITY", "Texel Density", "Choose texels per scene unit; the image is made as large as needed"),
 )
 
+CASTER_ITEMS = (
+    ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (fastest)"),
+    ("PYTHON_BVH", "Python BVH", "A Python loop over mathutils' BVHTree.ray_cast on one core (reference)"),
+)
+
 SAVE_ITEMS = (
     ("NONE", "Packed Only", "Keep the image packed in the .blend only"),
     ("PNG", "16-bit PNG", "Also save the image as a 16-bit PNG next to the .blend"),
@@ -82,6 +87,8 @@ class BakeSettings:
         False, "Scene Occluders", "Other visible mesh objects of the scene also occlude (contact shadows)")
     use_ground_plane: bool = _setting(
         False, "Ground Plane", "An infinite horizontal plane at the object's lowest point occludes")
+    ray_caster: str = _setting("GEOMETRY_NODES", "Ray Caster", "How rays are cast (same BVH, same result)",
+                               items=CASTER_ITEMS)
 
     # -- charts and image --------------------------------------------------------
     compare_angle: float = _setting(

@@ -2,10 +2,11 @@
 
 import bpy
 
-from . import properties
+from . import cli, properties
 from .bake import OBJECT_OT_seamless_ao_bake
+from .clear import OBJECT_OT_seamless_ao_clear
 
-classes = (OBJECT_OT_seamless_ao_bake,)
+classes = (OBJECT_OT_seamless_ao_bake, OBJECT_OT_seamless_ao_clear)
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
 
@@ -13,8 +14,10 @@ _register_classes, _unregister_classes = bpy.utils.register_classes_factory(clas
 def register():
     properties.register()
     _register_classes()
+    cli.register()
 
 
 def unregister():
+    cli.unregister()
     _unregister_classes()
     properties.unregister()

@@ -45,6 +45,12 @@ def settings_from(source, overrides=None):
     return BakeSettings.from_kwargs(**values)
 
 
+def _preview_changed(self, context):
+    from . import api
+    scene = context.scene
+    api.set_preview([ob for ob in scene.objects if api.has_bake(ob)], self.preview)
+
+
 def _stats_annotations():
     return {
         "last_bake_summary": StringProperty(
@@ -57,7 +63,7 @@ def _stats_annotations():
         "preview": BoolProperty(
             name="Preview AO Only",
             description="Show only the baked AO on the baked objects' materials (emission), to judge it",
-            default=False),
+            default=False, update=_preview_changed),
     }
 
 

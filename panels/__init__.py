@@ -1,9 +1,17 @@
-"""UI only: the 3D View sidebar panel."""
+"""UI only: the 3D View sidebar panel and its sub-panels."""
 
 import bpy
 
-from .sidebar import VIEW3D_PT_seamless_ao
+from .sidebar import (
+    VIEW3D_PT_seamless_ao, VIEW3D_PT_seamless_ao_image, VIEW3D_PT_seamless_ao_occluders,
+    VIEW3D_PT_seamless_ao_output, VIEW3D_PT_seamless_ao_rays)
 
-classes = (VIEW3D_PT_seamless_ao,)
+classes = (
+    VIEW3D_PT_seamless_ao,
+    VIEW3D_PT_seamless_ao_rays,
+    VIEW3D_PT_seamless_ao_occluders,
+    VIEW3D_PT_seamless_ao_image,
+    VIEW3D_PT_seamless_ao_output,
+)
 
 register, unregister = bpy.utils.register_classes_factory(classes)

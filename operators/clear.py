@@ -1,0 +1,28 @@
+"""``object.seamless_ao_clear``: remove exactly what bakes added to the selected meshes."""
+
+import bpy
+
+from . import api
+
+
+class OBJECT_OT_seamless_ao_clear(bpy.types.Operator):
+    """Remove the AO UV maps, nodes, images and materials Seamless AO added to the selected meshes"""
+
+    bl_idname = "object.seamless_ao_clear"
+    bl_label = "Clear Seamless AO"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        problem = api.selection_problem(context)
+        if not problem and not any(api.has_bake(ob) for ob in api.target_objects(context)):
+            problem = "The selected meshes have no Seamless AO bake to clear"
+        if problem:
+            cls.poll_message_set(problem)
+            return False
+        return True
+
+    def execute(self, context):
+        count = api.clear(api.target_objects(context))
+        self.report({"INFO"}, "Cleared Seamless AO from {} object{}".format(count, "" if count == 1 else "s"))
+        return {"FINISHED"}

@@ -1,0 +1,216 @@
+"""Hook the ``Seamless AO`` group into materials, and take it out again exactly.
+
+Every node the add-on adds is named ``SeamlessAO ...`` and sits in one frame
+labelled "Seamless AO", so a re-bake finds and updates the same nodes (never
+piles up duplicates) and Clear removes exactly those.  Where the AO is
+multiplied into a Principled BSDF's Base Color, the Multiply node's first
+input keeps what Base Color had (its link or its value), which is what Clear
+puts back.
+"""
+
+import bpy
+
+from .node_group import node_group
+
+PREFIX = "SeamlessAO "
+FRAME = PREFIX + "Frame"
+BLEND = PREFIX + "Blend"
+PREVIEW = PREFIX + "Preview"
+AXES = ("X", "Y", "Z")
+UV_NAMES = tuple("AO_" + axis for axis in AXES)
+#: Material custom properties.
+SURFACE_KEY = "seamless_ao_surface"          # "node|socket identifier" feeding the output before preview
+CREATED_KEY = "seamless_ao_created"          # the add-on made this material (object had none)
+NODES_KEY = "seamless_ao_enabled_nodes"      # the add-on switched use_nodes on
+
+
+def uses_nodes(material):
+    """Whether the material renders with its node tree (``use_nodes`` is always on from Blender 5.0)."""
+    if material.node_tree is None:
+        return False
+    return bpy.app.version >= (5, 0, 0) or material.use_nodes
+
+
+def enable_nodes(material):
+    """Switch the node tree on (Blender 4.x); returns True if it was off."""
+    if uses_nodes(material):
+        return False
+    material.use_nodes = True
+    return True
+
+
+def image_node_name(axis):
+    return PREFIX + "Image " + axis
+
+
+def uv_node_name(axis):
+    return PREFIX + "UV " + axis
+
+
+def multiply_node_name(principled):
+    return PREFIX + "Multiply " + principled.name
+
+
+def is_ours(node):
+    return node.name.startswith(PREFIX)
+
+
+def _socket(sockets, identifier):
+    return next(s for s in sockets if s.identifier == identifier)
+
+
+def hook_material(material, image, multiply=True):
+    """Add (or update) the AO nodes in ``material``, reading ``image``.
+
+    Parameters
+    ----------
+    material : bpy.types.Material
+    image : bpy.types.Image
+    multiply : bool
+        Multiply the AO into the Base Color of every Principled BSDF; if False,
+        only the nodes are added (and an earlier multiply is undone).
+    """
+    if enable_nodes(material):
+        material[NODES_KEY] = True
+    tree = material.node_tree
+    nodes, links = tree.nodes, tree.links
+    user_nodes = [n for n in nodes if not is_ours(n)]
+    left = min((n.location.x for n in user_nodes), default=0.0) - 700.0
+    top = max((n.location.y for n in user_nodes), default=0.0)
+
+    frame = nodes.get(FRAME) or nodes.new("NodeFrame")
+    frame.name, frame.label = FRAME, "Seamless AO"
+    group_node = nodes.get(BLEND) or nodes.new("ShaderNodeGroup")
+    group_node.name, group_node.label = BLEND, "Seamless AO"
+    group_node.node_tree = node_group()
+    group_node.parent = frame
+    group_node.location = (left + 450.0, top)
+    for row, axis in enumerate(AXES):
+        uv = nodes.get(uv_node_name(axis)) or nodes.new("ShaderNodeUVMap")
+        uv.name, uv.label = uv_node_name(axis), "AO_" + axis
+        uv.uv_map = "AO_" + axis
+        uv.parent = frame
+        uv.location = (left, top - 200.0 * row)
+        texture = nodes.get(image_node_name(axis)) or nodes.new("ShaderNodeTexImage")
+        texture.name, texture.label = image_node_name(axis), "AO " + axis
+        texture.image = image
+        texture.interpolation = "Linear"
+        texture.extension = "EXTEND"
+        texture.parent = frame
+        texture.location = (left + 180.0, top - 200.0 * row)
+        links.new(uv.outputs["UV"], texture.inputs["Vector"])
+        links.new(texture.outputs["Color"], group_node.inputs["AO " + axis])
+
+    for principled in [n for n in nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"]:
+        existing = nodes.get(multiply_node_name(principled))
+        if multiply and existing is None:
+            _insert_multiply(tree, principled, group_node)
+        elif not multiply and existing is not None:
+            _remove_multiply(tree, existing, principled)
+    return group_node
+
+
+def _insert_multiply(tree, principled, group_node):
+    nodes, links = tree.nodes, tree.links
+    base = principled.inputs["Base Color"]
+    mix = nodes.new("ShaderNodeMix")
+    mix.name, mix.label = multiply_node_name(principled), "Multiply AO"
+    mix.data_type = "RGBA"
+    mix.blend_type = "MULTIPLY"
+    mix.location = (principled.location.x - 220.0, principled.location.y + 160.0)
+    _socket(mix.inputs, "Factor_Float").default_value = 1.0
+    original = _socket(mix.inputs, "A_Color")
+    if base.is_linked:
+        links.new(base.links[0].from_socket, original)
+    else:
+        original.default_value = tuple(base.default_value)
+    links.new(group_node.outputs["AO"], _socket(mix.inputs, "B_Color"))
+    links.new(_socket(mix.outputs, "Result_Color"), base)
+
+
+def _remove_multiply(tree, mix, principled):
+    """Put back what Base Color had before the multiply, then delete the node."""
+    original = _socket(mix.inputs, "A_Color")
+    if principled is not None:
+        base = principled.inputs["Base Color"]
+        if original.is_linked:
+            tree.links.new(original.links[0].from_socket, base)
+        else:
+            for link in list(base.links):
+                tree.links.remove(link)
+            base.default_value = tuple(original.default_value)
+    tree.nodes.remove(mix)
+
+
+def _active_output(tree):
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+    return next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
+
+
+def set_preview(material, enabled):
+    """Show only the AO (as emission) in ``material``, or put its own surface back."""
+    tree = material.node_tree if uses_nodes(material) else None
+    if tree is None or tree.nodes.get(BLEND) is None:
+        return False
+    nodes, links = tree.nodes, tree.links
+    output = _active_output(tree)
+    if output is None:
+        return False
+    surface = output.inputs["Surface"]
+    preview = nodes.get(PREVIEW)
+    if enabled:
+        if preview is None:
+            preview = nodes.new("ShaderNodeEmission")
+            preview.name, preview.label = PREVIEW, "AO Preview"
+            preview.parent = nodes.get(FRAME)
+            blend = nodes[BLEND]
+            preview.location = (blend.location.x + 220.0, blend.location.y)
+            links.new(blend.outputs["AO"], preview.inputs["Color"])
+        if SURFACE_KEY not in material:
+            material[SURFACE_KEY] = (
+                "{}|{}".format(surface.links[0].from_node.name, surface.links[0].from_socket.identifier)
+                if surface.is_linked else "")
+        links.new(preview.outputs["Emission"], surface)
+        return True
+    _restore_surface(material, tree, surface)
+    if preview is not None:
+        nodes.remove(preview)
+    return True
+
+
+def _restore_surface(material, tree, surface):
+    if SURFACE_KEY not in material:
+        return
+    source = material[SURFACE_KEY]
+    del material[SURFACE_KEY]
+    for link in list(surface.links):
+        tree.links.remove(link)
+    if source:
+        node_name, identifier = source.split("|", 1)
+        node = tree.nodes.get(node_name)
+        if node is not None:
+            tree.links.new(_socket(node.outputs, identifier), surface)
+
+
+def unhook_material(material):
+    """Remove every node the add-on added, putting Base Color and Surface back."""
+    if not uses_nodes(material):
+        return
+    tree = material.node_tree
+    set_preview(material, False)
+    for mix in [n for n in tree.nodes if n.name.startswith(PREFIX + "Multiply ")]:
+        principled = tree.nodes.get(mix.name[len(PREFIX + "Multiply "):])
+        _remove_multiply(tree, mix, principled)
+    for node in [n for n in tree.nodes if is_ours(n)]:
+        tree.nodes.remove(node)
+    if material.get(NODES_KEY):
+        del material[NODES_KEY]
+        material.use_nodes = False
+
+
+def new_material(name):
+    """A plain material for an object that had none (remembered, so Clear can remove it)."""
+    material = bpy.data.materials.new(name)
+    enable_nodes(material)
+    material[CREATED_KEY] = True
+    return material

@@ -1,0 +1,106 @@
+"""Reading back what a bake wrote into Blender data, for tests and the benchmark."""
+
+import numpy as np
+
+from seamless_ao.core.blend import blended_ao
+
+
+def image_array(image):
+    """(h, w) float32: the R channel of a Blender image."""
+    width, height = image.size
+    pixels = np.empty(width * height * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    return pixels.reshape(height, width, 4)[:, :, 0]
+
+
+def uv_layer_array(mesh, name):
+    """(loops, 2) float64 UVs of one layer."""
+    uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+    mesh.uv_layers[name].data.foreach_get("uv", uv)
+    return uv.reshape(-1, 2).astype(np.float64)
+
+
+def mesh_snapshot(mesh):
+    """Bytes of everything a bake could touch on a mesh: geometry, UV layers, active flags, materials."""
+    parts = []
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    parts.append(co.tobytes())
+    for layer in mesh.uv_layers:
+        parts.append(layer.name.encode() + bytes([layer.active, layer.active_render]))
+        parts.append(uv_layer_array(mesh, layer.name).tobytes())
+    parts.append(",".join(m.name if m else "-" for m in mesh.materials).encode())
+    return b"|".join(parts)
+
+
+def material_snapshot(material):
+    """A comparable description of a material's node tree: nodes, links and Base Color values."""
+    from seamless_ao.shaders.material import uses_nodes
+    if material is None or material.node_tree is None:
+        return (material.name if material else None, uses_nodes(material) if material else None)
+    tree = material.node_tree
+    nodes = sorted((n.name, n.bl_idname) for n in tree.nodes)
+    links = sorted((l.from_node.name, l.from_socket.identifier, l.to_node.name, l.to_socket.identifier)
+                   for l in tree.links)
+    values = sorted((n.name, tuple(round(v, 6) for v in n.inputs["Base Color"].default_value))
+                    for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    keys = sorted(material.keys())
+    return (material.name, uses_nodes(material), tuple(nodes), tuple(links), tuple(values), tuple(keys))
+
+
+def shown_ao(ob, image, triangle_loops, triangle, bary, corner_normals):
+    """The blend the node group shows at surface points given as (loop triangle, barycentrics)."""
+    mesh = ob.data
+    loops = triangle_loops[triangle]                                    # (k, 3)
+    layer_uv = np.stack([np.einsum("kc,kcd->kd", bary, uv_layer_array(mesh, name)[loops])
+                         for name in ("AO_X", "AO_Y", "AO_Z")], axis=1)
+    normals = np.einsum("kc,kcd->kd", bary, corner_normals[triangle])
+    return blended_ao(image_array(image), layer_uv, normals)
+
+
+def surface_under_pixels(ob, mesh, camera, size, subsamples=3):
+    """Which surface points of ``ob`` each pixel of a ``size`` x ``size`` render sees.
+
+    Each pixel is sampled on a ``subsamples`` x ``subsamples`` grid (a box
+    filter one pixel wide, as the render is set up); pixels where any sample
+    misses the object (silhouettes) are left out.
+
+    Parameters
+    ----------
+    mesh : TriangleMesh of ``ob`` (object space)
+
+    Returns
+    -------
+    triangles : (k, s) int, bary : (k, s, 3), pixels : (k, 2) (row from the bottom, column)
+    """
+    import bpy
+    from mathutils import Vector
+    from mathutils.bvhtree import BVHTree
+    from mathutils.geometry import barycentric_transform
+
+    world = np.array(ob.matrix_world)
+    positions = mesh.positions @ world[:3, :3].T + world[:3, 3]
+    tree = BVHTree.FromPolygons(positions.tolist(), mesh.triangles.tolist(), all_triangles=True)
+    frame = camera.data.view_frame(scene=bpy.context.scene)     # top-right, bottom-right, bottom-left, top-left
+    origin = camera.matrix_world.translation
+    unit = (Vector((1, 0, 0)), Vector((0, 1, 0)), Vector((0, 0, 1)))
+    offsets = (np.arange(subsamples) + 0.5) / subsamples
+    triangles, barys, pixels = [], [], []
+    for row in range(size):
+        for col in range(size):
+            hits = []
+            for dv in offsets:
+                for du in offsets:
+                    u, v = (col + du) / size, (row + dv) / size
+                    local = frame[2] + (frame[1] - frame[2]) * u + (frame[3] - frame[2]) * v
+                    direction = (camera.matrix_world @ local - origin).normalized()
+                    hit, _, index, _ = tree.ray_cast(origin, direction)
+                    if hit is None:
+                        break
+                    corners = [Vector(c) for c in positions[mesh.triangles[index]]]
+                    hits.append((index, np.array(barycentric_transform(hit, *corners, *unit))))
+            if len(hits) == subsamples**2:
+                triangles.append([h[0] for h in hits])
+                barys.append([h[1] for h in hits])
+                pixels.append((row, col))
+    return np.array(triangles), np.array(barys), np.array(pixels)

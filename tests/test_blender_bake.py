@@ -1,0 +1,190 @@
+"""Issue 5: the Blender side, in background mode (no window): operator, data written, shader, CLI."""
+
+import os
+import subprocess
+import sys
+
+import bpy
+import numpy as np
+import pytest
+
+from blender_checks import image_array, material_snapshot, mesh_snapshot, shown_ao, surface_under_pixels
+from blender_scenes import suzanne
+from conftest import ROOT, seamless_ao
+from seamless_ao.operators.mesh_data import read_triangles
+from seamless_ao.shaders.material import BLEND, PREFIX, enable_nodes
+from seamless_ao.shaders.node_group import GROUP_NAME
+
+FAST = dict(rays=8, image_size=256)
+
+
+@pytest.fixture
+def monkey(addon, fresh_scene):
+    ob = suzanne(1)
+    assert [uv.name for uv in ob.data.uv_layers] == ["UVMap"]
+    ob.data.uv_layers.new(name="Lightmap")
+    ob.data.uv_layers.active = ob.data.uv_layers["UVMap"]
+    ob.data.uv_layers["Lightmap"].active_render = True
+    bpy.context.view_layer.objects.active = ob
+    ob.select_set(True)
+    return ob
+
+
+def test_operator_writes_uv_maps_image_and_node_group(monkey):
+    settings = bpy.context.scene.seamless_ao
+    settings.rays, settings.image_size = FAST["rays"], FAST["image_size"]
+    result = bpy.ops.object.seamless_ao_bake()
+    assert result == {"FINISHED"}
+    mesh = monkey.data
+    assert [uv.name for uv in mesh.uv_layers] == ["UVMap", "Lightmap", "AO_X", "AO_Y", "AO_Z"]
+    assert mesh.uv_layers.active.name == "UVMap"
+    assert [uv.name for uv in mesh.uv_layers if uv.active_render] == ["Lightmap"]
+    image = bpy.data.images["Suzanne_AO"]
+    assert image.packed_file is not None and image.colorspace_settings.name == "Non-Color"
+    assert tuple(image.size) == (256, 256)
+    values = image_array(image)
+    assert np.isfinite(values).all() and values.min() >= 0.0 and values.max() <= 1.0
+    assert 0.2 < values.mean() < 1.0
+    assert GROUP_NAME in bpy.data.node_groups
+    material = monkey.active_material
+    assert material.node_tree.nodes.get(BLEND) is not None
+    assert settings.last_bake_texels > 0 and settings.last_bake_time > 0
+
+
+def test_operator_properties_override_scene_settings(monkey):
+    bpy.context.scene.seamless_ao.image_size = 512
+    bpy.ops.object.seamless_ao_bake(rays=4, image_size=256)
+    assert tuple(bpy.data.images["Suzanne_AO"].size) == (256, 256)
+    assert bpy.context.scene.seamless_ao.image_size == 512
+
+
+def test_rebake_updates_the_same_nodes_and_clear_restores_everything(monkey):
+    material = bpy.data.materials.new("Skin")
+    enable_nodes(material)
+    principled = next(n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    principled.inputs["Base Color"].default_value = (0.8, 0.2, 0.1, 1.0)
+    monkey.data.materials.append(material)
+    before_mesh, before_material = mesh_snapshot(monkey.data), material_snapshot(material)
+    images_before, groups_before = set(bpy.data.images.keys()), set(bpy.data.node_groups.keys())
+
+    seamless_ao.bake([monkey], **FAST)
+    nodes_once = sorted(n.name for n in material.node_tree.nodes)
+    assert any(n.startswith(PREFIX + "Multiply") for n in nodes_once)
+    base = principled.inputs["Base Color"]
+    assert base.is_linked and base.links[0].from_node.name.startswith(PREFIX + "Multiply")
+    seamless_ao.bake([monkey], **FAST)
+    assert sorted(n.name for n in material.node_tree.nodes) == nodes_once, "a re-bake piled up nodes"
+    assert len([i for i in bpy.data.images if i.name.startswith("Suzanne_AO")]) == 1
+
+    seamless_ao.clear([monkey])
+    assert mesh_snapshot(monkey.data) == before_mesh
+    assert material_snapshot(material) == before_material
+    assert set(bpy.data.images.keys()) == images_before
+    assert set(bpy.data.node_groups.keys()) == groups_before
+
+
+def test_object_without_material_gets_one_and_clear_removes_it(monkey):
+    seamless_ao.bake([monkey], **FAST)
+    assert monkey.active_material is not None and monkey.active_material.name == "Suzanne_SeamlessAO"
+    seamless_ao.clear([monkey])
+    assert len(monkey.data.materials) == 0
+    assert "Suzanne_SeamlessAO" not in bpy.data.materials
+
+
+def test_nodes_only_option_leaves_base_color_alone(monkey):
+    seamless_ao.bake([monkey], hook_materials=False, **FAST)
+    tree = monkey.active_material.node_tree
+    principled = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    assert not principled.inputs["Base Color"].is_linked
+    assert tree.nodes.get(BLEND) is not None
+
+
+def test_two_objects_share_one_atlas(addon, fresh_scene):
+    a, b = suzanne(1, name="A"), suzanne(1, name="B")
+    b.location.x = 3.0
+    material = bpy.data.materials.new("Shared")
+    enable_nodes(material)
+    a.data.materials.append(material)
+    b.data.materials.append(material)
+    report = seamless_ao.bake([a, b], **FAST)
+    assert report.image == "A+B_AO"
+    for ob in (a, b):
+        assert "AO_X" in ob.data.uv_layers
+    image_nodes = [n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeTexImage"]
+    assert {n.image.name for n in image_nodes} == {"A+B_AO"}
+
+
+def test_node_group_is_versioned_and_rebuilt_in_place(monkey):
+    seamless_ao.bake([monkey], **FAST)
+    group = bpy.data.node_groups[GROUP_NAME]
+    group["seamless_ao_version"] = 0
+    group.nodes.clear()
+    seamless_ao.bake([monkey], **FAST)
+    assert bpy.data.node_groups[GROUP_NAME] == group
+    assert len(group.nodes) > 10 and group["seamless_ao_version"] >= 1
+
+
+def render_emission(ob, size=48):
+    """Cycles render of ``ob`` with its material switched to AO-only emission; (h, w) linear values."""
+    import tempfile
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 64
+    scene.cycles.use_denoising = False
+    scene.cycles.pixel_filter_type = "BOX"            # each pixel averages itself, nothing else
+    scene.cycles.filter_width = 1.0
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(camera)
+    camera.location = (0.0, -4.0, 0.3)
+    camera.rotation_euler = (np.radians(88.0), 0.0, 0.0)
+    scene.camera = camera
+    scene.world = bpy.data.worlds.new("Black")
+    scene.world.color = (0, 0, 0)
+    seamless_ao.set_preview([ob], True)
+    path = os.path.join(tempfile.mkdtemp(), "render.exr")
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.filepath = path
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(path)
+    return camera, image_array(image)
+
+
+def test_cycles_render_matches_numpy_blend(monkey):
+    monkey.rotation_euler = (0.3, 0.2, 0.5)           # object space differs from world space
+    bpy.context.view_layer.update()
+    seamless_ao.bake([monkey], rays=16, image_size=256)
+    camera, rendered = render_emission(monkey)
+    size = rendered.shape[0]
+    mesh, loops = read_triangles(monkey.data)
+    triangles, barys, pixels = surface_under_pixels(monkey, mesh, camera, size)
+    samples = triangles.shape[1]
+    expected = shown_ao(monkey, bpy.data.images["Suzanne_AO"], loops, triangles.ravel(), barys.reshape(-1, 3),
+                        mesh.corner_normals).reshape(-1, samples).mean(axis=1)
+    got = rendered[pixels[:, 0], pixels[:, 1]]
+    error = np.abs(got - expected)
+    assert len(error) > 300
+    assert np.median(error) < 0.01, np.median(error)
+    assert np.mean(error < 0.03) > 0.9, np.mean(error < 0.03)      # 64 samples vs a 3x3 grid per pixel
+
+
+def test_cli_bakes_a_saved_file_and_rejects_a_bad_name(tmp_path, fresh_scene):
+    suzanne(1)
+    blend = tmp_path / "scene.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    helper = ROOT / "tests" / "helpers" / "cli.py"
+    ok = subprocess.run([sys.executable, str(helper), str(blend), "bake", "--objects", "Suzanne", "--rays", "4",
+                         "--image-size", "256", "--save"], capture_output=True, text=True, timeout=600)
+    assert ok.returncode == 0, ok.stdout[-2000:] + ok.stderr[-2000:]
+    assert "Baked Suzanne" in ok.stdout
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    assert "AO_X" in bpy.data.objects["Suzanne"].data.uv_layers
+    assert bpy.data.images["Suzanne_AO"].packed_file is not None
+    bad = subprocess.run([sys.executable, str(helper), str(blend), "bake", "--objects", "Nope"],
+                         capture_output=True, text=True, timeout=600)
+    assert bad.returncode == 1
+    lines = [l for l in bad.stderr.splitlines() if l.startswith("seamless_ao:")]
+    assert lines == ["seamless_ao: error: no object named 'Nope' (mesh objects in this file: Suzanne)"], bad.stderr
