@@ -247,52 +247,9 @@ class BakeSession:
                 "size or texel density, or raise the budget".format(needed, self.settings.memory_budget_mb))
 
     def _ray_part(self, frame, mesh):
-        """AO parameters, caster and ray-space map of one object (ray space: world axes, object-centred)."""
-        ob, _, matrix = frame
-        linear = matrix[:3, :3]
-        centre, to_ray = ray_space(mesh.positions, linear)
-        own = to_ray(mesh.positions)
-        size = float(np.linalg.norm(own.max(axis=0) - own.min(axis=0))) or 1.0
-        positions, triangles = [own], [mesh.triangles]
-        if self.settings.use_scene_occluders:
-            shift = matrix[:3, :3] @ centre + matrix[:3, 3]
-            for other, world_positions, other_triangles in self._scene_occluders(exclude=ob):
-                triangles.append(other_triangles + sum(len(p) for p in positions))
-                positions.append(world_positions - shift)
-        settings = self.settings
-        params = AOParams(
-            rays=settings.rays,
-            max_distance=0.5 * size if settings.auto_distance else settings.max_distance,
-            cone_angle=settings.cone_angle, falloff=settings.falloff, distribution=settings.distribution,
-            ignore_backfaces=settings.ignore_backfaces, horizon_bias=settings.horizon_bias,
-            adaptive=settings.adaptive, seed=settings.seed, offset=ORIGIN_OFFSET * size,
-            ground_height=float(own[:, 2].min()) if settings.use_ground_plane else None)
-        positions, triangles = np.concatenate(positions), np.concatenate(triangles)
-        caster = (BVHCaster if settings.ray_caster == "PYTHON_BVH" else NodesCaster)(positions, triangles)
+        params, caster, to_ray = ray_setup(frame[0], mesh, self.settings, self.scene, self.depsgraph)
         self.casters.append(caster)
         return params, caster, to_ray
-
-    def _scene_occluders(self, exclude):
-        """(object, world positions, triangles) of every other visible mesh of the scene."""
-        for other in self.scene.objects:
-            if other is exclude or other.type != "MESH" or not other.visible_get():
-                continue
-            evaluated = other.evaluated_get(self.depsgraph)
-            mesh = evaluated.to_mesh()
-            try:
-                mesh.calc_loop_triangles()
-                count = len(mesh.loop_triangles)
-                if not count:
-                    continue
-                co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-                mesh.vertices.foreach_get("co", co)
-                tris = np.empty(count * 3, dtype=np.int32)
-                mesh.loop_triangles.foreach_get("vertices", tris)
-            finally:
-                evaluated.to_mesh_clear()
-            matrix = np.array(other.matrix_world, dtype=np.float64)
-            world = co.reshape(-1, 3).astype(np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
-            yield other, world, tris.reshape(-1, 3).astype(np.int64)
 
     def _free_casters(self):
         for caster in self.casters:
@@ -337,6 +294,59 @@ class BakeSession:
             transaction.roll_back()
             raise
         return warnings
+
+
+def ray_setup(ob, mesh, settings, scene, depsgraph, rays=None):
+    """AO parameters, caster and ray-space map for one object.
+
+    Ray space has the world's axes and scale (what the object looks like)
+    with the object's bounding-box centre at the origin, so positions stay
+    small for float32 BVHs even far from the world origin.  The caller frees
+    the caster (``caster.free()`` where it has one).
+    """
+    matrix = np.array(ob.matrix_world, dtype=np.float64)
+    centre, to_ray = ray_space(mesh.positions, matrix[:3, :3])
+    own = to_ray(mesh.positions)
+    size = float(np.linalg.norm(own.max(axis=0) - own.min(axis=0))) or 1.0
+    positions, triangles = [own], [mesh.triangles]
+    if settings.use_scene_occluders:
+        shift = matrix[:3, :3] @ centre + matrix[:3, 3]
+        for world_positions, other_triangles in scene_occluders(scene, depsgraph, exclude=ob):
+            triangles.append(other_triangles + sum(len(p) for p in positions))
+            positions.append(world_positions - shift)
+    params = AOParams(
+        rays=settings.rays if rays is None else rays,
+        max_distance=0.5 * size if settings.auto_distance else settings.max_distance,
+        cone_angle=settings.cone_angle, falloff=settings.falloff, distribution=settings.distribution,
+        ignore_backfaces=settings.ignore_backfaces, horizon_bias=settings.horizon_bias,
+        adaptive=settings.adaptive, seed=settings.seed, offset=ORIGIN_OFFSET * size,
+        ground_height=float(own[:, 2].min()) if settings.use_ground_plane else None)
+    positions, triangles = np.concatenate(positions), np.concatenate(triangles)
+    caster = (BVHCaster if settings.ray_caster == "PYTHON_BVH" else NodesCaster)(positions, triangles)
+    return params, caster, to_ray
+
+
+def scene_occluders(scene, depsgraph, exclude):
+    """(world positions, triangles) of every visible mesh of the scene but ``exclude``."""
+    for other in scene.objects:
+        if other is exclude or other.type != "MESH" or not other.visible_get():
+            continue
+        evaluated = other.evaluated_get(depsgraph)
+        mesh = evaluated.to_mesh()
+        try:
+            mesh.calc_loop_triangles()
+            count = len(mesh.loop_triangles)
+            if not count:
+                continue
+            co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+            mesh.vertices.foreach_get("co", co)
+            tris = np.empty(count * 3, dtype=np.int32)
+            mesh.loop_triangles.foreach_get("vertices", tris)
+        finally:
+            evaluated.to_mesh_clear()
+        matrix = np.array(other.matrix_world, dtype=np.float64)
+        world = co.reshape(-1, 3).astype(np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
+        yield world, tris.reshape(-1, 3).astype(np.int64)
 
 
 def _fail_here(step):

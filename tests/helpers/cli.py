@@ -27,4 +27,4 @@ def main(blend, argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1], sys.argv[2:]))
+    conftest.hard_exit(main(sys.argv[1], sys.argv[2:]))

@@ -50,3 +50,6 @@ def main(zip_path):
 
 if __name__ == "__main__":
     main(os.path.abspath(sys.argv[1]))
+    # bpy 4.2's module crashes in interpreter teardown after a PropertyGroup was registered
+    sys.stdout.flush()
+    os._exit(0)

@@ -1,0 +1,69 @@
+"""Error as the user sees it: the shown AO at random surface points against a many-ray reference."""
+
+import numpy as np
+
+from blender_checks import image_array, uv_layer_array
+from seamless_ao.core.ao import shade
+from seamless_ao.core.blend import bilinear, blended_ao
+from seamless_ao.core.settings import BakeSettings
+
+
+def surface_samples(mesh, count, seed=0):
+    """Area-weighted random surface points of a TriangleMesh.
+
+    Returns triangle (k,), bary (k, 3), normals (k, 3) (interpolated shading normals, object space).
+    """
+    rng = np.random.default_rng(seed)
+    weight = np.where(mesh.degenerate, 0.0, mesh.triangle_area)
+    triangle = rng.choice(len(weight), size=count, p=weight / weight.sum())
+    r1, r2 = rng.random(count), rng.random(count)
+    s = np.sqrt(r1)
+    bary = np.stack([1 - s, s * (1 - r2), s * r2], axis=1)
+    normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    return triangle, bary, normals
+
+
+def reference_ao(ob, mesh, triangle, bary, normals, rays=2048, settings=None, batch=256):
+    """AO at surface points with many rays (no adaptive stop), same conventions as the bake."""
+    import bpy
+    from seamless_ao.operators.api import ray_setup
+
+    settings = (settings or BakeSettings()).replace(adaptive=False)
+    params, caster, to_ray = ray_setup(ob, mesh, settings, bpy.context.scene,
+                                       bpy.context.evaluated_depsgraph_get(), rays=rays)
+    try:
+        points = np.einsum("kc,kcd->kd", bary, mesh.positions[mesh.triangles[triangle]])
+        points, shading = to_ray(points, normals)
+        _, geometric = to_ray(points, mesh.triangle_normal[triangle])
+        out = np.empty(len(points), dtype=np.float64)
+        for start in range(0, len(points), batch):
+            part = slice(start, start + batch)
+            out[part] = shade(points[part], shading[part], geometric[part],
+                              np.arange(len(points))[part] + 7919, params, caster)[0]
+        return out
+    finally:
+        if hasattr(caster, "free"):
+            caster.free()
+
+
+def shown_seamless(ob, image, triangle_loops, triangle, bary, normals):
+    """What the Seamless AO node group shows at the points (UVs read back from the mesh)."""
+    mesh = ob.data
+    loops = triangle_loops[triangle]
+    layer_uv = np.stack([np.einsum("kc,kcd->kd", bary, uv_layer_array(mesh, name)[loops])
+                         for name in ("AO_X", "AO_Y", "AO_Z")], axis=1)
+    return blended_ao(image_array(image), layer_uv, normals)
+
+
+def shown_single_uv(ob, image, uv_name, triangle_loops, triangle, bary):
+    """What an Image Texture node (linear) through one UV map shows at the points."""
+    loops = triangle_loops[triangle]
+    uv = np.einsum("kc,kcd->kd", bary, uv_layer_array(ob.data, uv_name)[loops])
+    return bilinear(image_array(image), uv)
+
+
+def errors(shown, reference):
+    """(RMSE, 99th percentile of |error|)."""
+    difference = np.abs(np.asarray(shown) - np.asarray(reference))
+    return float(np.sqrt(np.mean(difference**2))), float(np.percentile(difference, 99))
