@@ -63,7 +63,12 @@ test-one: .venv/$(BLENDER)/.installed wheels/.downloaded
 	@echo "== Blender $(BLENDER): pytest"
 	$(call venv_python,$(BLENDER)) -m pytest tests $(PYTEST_ARGS)
 
-bench: .venv/5.0/.installed
+.venv/5.0/.bench: .venv/5.0/.installed requirements/bench.txt
+	.venv/5.0/bin/python -m pip download --quiet --only-binary=:all: -d "$(WHEELHOUSE)" -r requirements/bench.txt -r requirements/blender-5.0.txt
+	.venv/5.0/bin/python -m pip install --quiet --no-index --find-links "$(WHEELHOUSE)" -r requirements/bench.txt -r requirements/blender-5.0.txt
+	touch $@
+
+bench: .venv/5.0/.bench
 	$(call venv_python,5.0) tests/bench/report.py --output-dir out/bench
 
 # ---------------------------------------------------------------------------

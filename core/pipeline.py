@@ -158,20 +158,27 @@ class AOJob:
         :class:`.ao.AOParams`, a caster (see :mod:`.ao`), and the mapping to
         that mesh's ray space from :func:`.ao.ray_space`.
     batch_rays : int
+    ray_rings : int
+        Padding rings that get rays of their own (bilinear filtering reads
+        only covered and near texels; farther rings are filled from their
+        neighbours by :func:`texel_image`, which is what mip-maps need).
     """
 
-    def __init__(self, layout, parts, batch_rays=1 << 20):
+    def __init__(self, layout, parts, batch_rays=1 << 20, ray_rings=1):
         self.layout = layout
         self.parts = parts
-        self.total = len(layout.texels)
-        self.ao = np.zeros(self.total, dtype=np.float32)
+        texels = layout.texels
+        self.computed = texels.ring <= ray_rings
+        self.total = int(self.computed.sum())
+        self.ao = np.zeros(len(texels), dtype=np.float32)
         self.done = 0
         self.rays_cast = 0
         self.seconds = 0.0
         self.rays_per_texel = max(p.rays for p, _, _ in parts)
         self.batch = max(1, int(batch_rays // self.rays_per_texel))
         # texels of one part together, in atlas order inside each part
-        self.order = np.lexsort((layout.texels.index, layout.part_of_texel()))
+        selected = np.flatnonzero(self.computed)
+        self.order = selected[np.lexsort((texels.index[selected], layout.part_of_texel(selected)))]
 
     @property
     def finished(self):
@@ -218,18 +225,20 @@ class AOJob:
         return self.ao
 
 
-def texel_image(texels, values, fill_rings=None):
+def texel_image(texels, values, computed=None):
     """The AO image (height, width) float32 from per-texel values.
 
-    Texels that carry no AO are filled by a pull-push pyramid from the ones
-    that do, so mip-mapping (EEVEE) and any filtering at a distance never pulls
-    in an empty (black, i.e. "fully occluded") texel.
+    Texels without a computed value (``computed`` False, or not in ``texels``)
+    are filled by a pull-push pyramid from the ones that have one, so
+    mip-mapping (EEVEE) and any filtering at a distance never pulls in an empty
+    (black, i.e. "fully occluded") texel.
     """
     width, height = texels.width, texels.height
+    computed = np.ones(len(texels), dtype=bool) if computed is None else computed
     image = np.zeros(width * height, dtype=np.float64)
     weight = np.zeros(width * height, dtype=np.float64)
-    image[texels.index] = values
-    weight[texels.index] = 1.0
+    image[texels.index[computed]] = values[computed]
+    weight[texels.index[computed]] = 1.0
     filled = pull_push(image.reshape(height, width), weight.reshape(height, width))
     return filled.astype(np.float32)
 

@@ -10,9 +10,10 @@ with the interpolated shading normal.  Three kinds of texels get a point:
              triangle): slivers thinner than a texel still get texels;
 ``PADDING``  further rings around each chart, grown outward from the above.
 
-Near and padding texels take the point on the plane of their nearest chart
-triangle (extrapolated barycentrics), so filtering across a chart border
-continues the surface instead of reading an empty texel.
+Near and padding texels take the point of their nearest chart triangle
+closest to their centre (the chart's rim), so filtering across a chart
+border reads the surface's own AO instead of an empty texel, and never a
+point extrapolated into the solid at a concave crease.
 
 Memory is linear in texels: two full-size maps while rasterising (8 bytes per
 image texel), then compact arrays of the texels in use (13 bytes each); points
@@ -42,6 +43,8 @@ class Texels:
         Atlas member (triangle in a chart) whose surface the texel samples.
     kind : (n,) int8
         :data:`COVERED`, :data:`NEAR` or :data:`PADDING`.
+    ring : (n,) int8
+        0 for covered and near texels, ``r`` for the r-th padding ring.
     """
 
     width: int
@@ -49,6 +52,7 @@ class Texels:
     index: np.ndarray
     member: np.ndarray
     kind: np.ndarray
+    ring: np.ndarray = None
 
     def __len__(self):
         return len(self.index)
@@ -123,9 +127,9 @@ def rasterise(atlas, mesh, padding=4):
         texel, _, owner = _best_per_texel(texel, score, owner)
         member_map[texel] = live[owner]
         kind[texel] = NEAR
-    _grow_padding(member_map, kind, width, height, padding)
+    ring = _grow_padding(member_map, kind, width, height, padding)
     index = np.flatnonzero(member_map >= 0)
-    return Texels(width, height, index, member_map[index].astype(np.int64), kind[index])
+    return Texels(width, height, index, member_map[index].astype(np.int64), kind[index], ring[index])
 
 
 def _best_per_texel(texel, score, owner):
@@ -217,16 +221,20 @@ _NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, 1), (1, -1), (-1, 
 
 
 def _grow_padding(member_map, kind_map, width, height, rings):
-    """Grow assigned texels outward by ``rings`` rings (8-neighbourhood), in place."""
+    """Grow assigned texels outward by ``rings`` rings (8-neighbourhood), in place.
+
+    Returns the ring number of every image texel (int8, 0 for those assigned before).
+    """
+    ring_map = np.zeros(width * height, dtype=np.int8)
     assigned = (member_map >= 0).reshape(height, width)
     inner = assigned.copy()                       # assigned with all 8 neighbours assigned
     padded = np.pad(assigned, 1, constant_values=False)
     for dx, dy in _NEIGHBOURS:
         inner &= padded[1 + dy:1 + dy + height, 1 + dx:1 + dx + width]
     frontier = np.flatnonzero(assigned & ~inner)
-    for _ in range(rings):
+    for ring in range(1, rings + 1):
         if not len(frontier):
-            return
+            break
         x, y = frontier % width, frontier // width
         targets, sources, ranks = [], [], []
         for rank, (dx, dy) in enumerate(_NEIGHBOURS):
@@ -245,11 +253,19 @@ def _grow_padding(member_map, kind_map, width, height, rings):
         target, source = target[first], source[first]
         member_map[target] = member_map[source]
         kind_map[target] = PADDING
+        ring_map[target] = ring
         frontier = target
+    return ring_map
 
 
 def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     """Surface point and normals sampled by some texels.
+
+    A texel samples the point of its member triangle nearest to its centre
+    (in the atlas): its exact surface point if the centre is inside, else
+    the closest point of the triangle's edge.  So near and padding texels hold
+    the AO at the chart's rim, never a point extrapolated off the surface
+    (which, at a concave crease, would lie inside the solid).
 
     Parameters
     ----------
@@ -261,10 +277,8 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     Returns
     -------
     points : (k, 3) float64
-        Exact surface point (on the member triangle's plane for near and
-        padding texels).
     normals : (k, 3) float64
-        Unit interpolated shading normal (barycentrics clamped to the triangle).
+        Unit interpolated shading normal.
     geometric : (k, 3) float64
         Unit normal of the member triangle.
     """
@@ -273,16 +287,13 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     x = (index % texels.width).astype(np.float64) + 0.5
     y = (index // texels.width).astype(np.float64) + 0.5
     triangle = atlas.member_triangle[member]
-    uv = atlas.member_uv[member]
-    b1, b2 = _barycentric12(uv, x, y)
-    b0 = 1.0 - b1 - b2
+    b0, b1, b2 = closest_barycentric(atlas.member_uv[member], x, y)
     corner = mesh.triangles[triangle]
     positions = mesh.positions
     points = (b0[:, None] * positions[corner[:, 0]] + b1[:, None] * positions[corner[:, 1]]
               + b2[:, None] * positions[corner[:, 2]])
-    c0, c1, c2 = np.maximum(b0, 0.0), np.maximum(b1, 0.0), np.maximum(b2, 0.0)
     normals = mesh.corner_normals[triangle]
-    normals = c0[:, None] * normals[:, 0] + c1[:, None] * normals[:, 1] + c2[:, None] * normals[:, 2]
+    normals = b0[:, None] * normals[:, 0] + b1[:, None] * normals[:, 1] + b2[:, None] * normals[:, 2]
     geometric = mesh.triangle_normal[triangle]
     length = np.sqrt((normals * normals).sum(axis=1))[:, None]
     ok = length > 1e-12
@@ -290,15 +301,57 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     return points, normals, geometric
 
 
-def _barycentric12(triangle, x, y):
-    """Barycentric weights of corners 1 and 2 of 2D points (x, y) in triangles (k, 3, 2)."""
-    ax, ay = triangle[:, 0, 0], triangle[:, 0, 1]
-    v0x, v0y = triangle[:, 1, 0] - ax, triangle[:, 1, 1] - ay
-    v1x, v1y = triangle[:, 2, 0] - ax, triangle[:, 2, 1] - ay
-    v2x, v2y = x - ax, y - ay
-    den = v0x * v1y - v1x * v0y
-    den = np.where(den != 0, den, np.inf)
-    return (v2x * v1y - v1x * v2y) / den, (v0x * v2y - v2x * v0y) / den
+def closest_barycentric(triangle, x, y):
+    """Barycentric coordinates of the point of each 2D triangle closest to (x, y).
+
+    Parameters
+    ----------
+    triangle : (k, 3, 2) float64
+    x, y : (k,) float64
+
+    Returns
+    -------
+    b0, b1, b2 : (k,) float64, each in [0, 1], summing to 1 (Ericson's region
+    tests; inside points keep their own coordinates).
+    """
+    a, b, c = triangle[:, 0], triangle[:, 1], triangle[:, 2]
+    p = np.stack([x, y], axis=1)
+    ab, ac, ap = b - a, c - a, p - a
+    d1, d2 = (ab * ap).sum(1), (ac * ap).sum(1)
+    bp = p - b
+    d3, d4 = (ab * bp).sum(1), (ac * bp).sum(1)
+    cp = p - c
+    d5, d6 = (ab * cp).sum(1), (ac * cp).sum(1)
+    va = d3 * d6 - d5 * d4
+    vb = d5 * d2 - d1 * d6
+    vc = d1 * d4 - d3 * d2
+    k = len(x)
+    out = np.zeros((k, 3))
+    done = np.zeros(k, dtype=bool)
+
+    def take(mask, weights):
+        nonlocal done
+        mask = mask & ~done
+        out[mask] = np.stack([w[mask] if np.ndim(w) else np.full(mask.sum(), w) for w in weights], axis=1)
+        done |= mask
+
+    safe = lambda num, den: np.divide(num, den, out=np.zeros(k), where=den != 0)  # noqa: E731
+    take((d1 <= 0) & (d2 <= 0), (1.0, 0.0, 0.0))                                   # corner a
+    take((d3 >= 0) & (d4 <= d3), (0.0, 1.0, 0.0))                                  # corner b
+    v = safe(d1, d1 - d3)
+    take((vc <= 0) & (d1 >= 0) & (d3 <= 0), (1.0 - v, v, 0.0))                     # edge ab
+    take((d6 >= 0) & (d5 <= d6), (0.0, 0.0, 1.0))                                  # corner c
+    w = safe(d2, d2 - d6)
+    take((vb <= 0) & (d2 >= 0) & (d6 <= 0), (1.0 - w, 0.0, w))                     # edge ac
+    w = safe(d4 - d3, (d4 - d3) + (d5 - d6))
+    take((va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0), (0.0, 1.0 - w, w))       # edge bc
+    total = va + vb + vc
+    v, w = safe(vb, total), safe(vc, total)
+    inside_weights = (1.0 - v - w, v, w)
+    take(np.ones(k, dtype=bool), inside_weights)                                   # inside
+    degenerate = np.abs(_cross(ab, ac)) <= 0
+    out[degenerate] = 1.0 / 3.0
+    return out[:, 0], out[:, 1], out[:, 2]
 
 
 def barycentric(triangle, point):

@@ -184,12 +184,12 @@ class BakeSession:
             ao_seconds = job.seconds
             self._free_casters()
             yield 0.96, "Writing image, UV maps and materials"
-            image = texel_image(layout.texels, job.ao)
+            image = texel_image(layout.texels, job.ao, job.computed)
             warnings = self._write(layout, image)
             timings = dict(layout.timings, rays=ao_seconds)
             self.report = BakeReport(
                 objects=[ob.name for ob in self.objects], image=self.image_name, width=layout.atlas.width,
-                height=layout.atlas.height, texels=len(layout.texels), rays=job.rays_cast,
+                height=layout.atlas.height, texels=job.total, rays=job.rays_cast,
                 utilisation=layout.atlas.utilisation, density=layout.atlas.density, charts=layout.charts.count,
                 seconds=time.perf_counter() - self.started, timings=timings,
                 mesh_problems=layout.topology.report.problems(), warnings=warnings,
@@ -373,21 +373,22 @@ class Transaction:
         pixels[:, 3] = 1.0
         image = bpy.data.images.get(name)
         if image is not None and image.get(OURS_KEY):
-            old = (tuple(image.size), np.empty(len(image.pixels), dtype=np.float32))
-            image.pixels.foreach_get(old[1])
-            if tuple(image.size) != (width, height):
-                image.scale(width, height)
+            old_size = tuple(image.size)
+            old_pixels = np.empty(len(image.pixels), dtype=np.float32)
+            image.pixels.foreach_get(old_pixels)
+            _regenerate(image, width, height)
 
-            def restore(image=image, old=old):
-                image.scale(*old[0])
-                image.pixels.foreach_set(old[1])
+            def restore(image=image, size=old_size, pixels=old_pixels):
+                _regenerate(image, *size)
+                image.pixels.foreach_set(pixels)
                 image.pack()
             self.undo.append(restore)
         else:
             image = bpy.data.images.new(name, width, height, alpha=False, float_buffer=True)
             image[OURS_KEY] = True
             self.undo.append(lambda image=image: bpy.data.images.remove(image))
-        image.colorspace_settings.name = "Non-Color"
+        if image.colorspace_settings.name != "Non-Color":
+            image.colorspace_settings.name = "Non-Color"
         image.pixels.foreach_set(pixels.ravel())
         image.pack()
         return image
@@ -446,6 +447,13 @@ class Transaction:
                 warnings.append("material '{}' is also used by {}, baked separately: it now shows this bake's "
                                 "image; bake them together to share one".format(material.name, ", ".join(sharers)))
         return warnings
+
+
+def _regenerate(image, width, height):
+    """Turn a (packed) image back into a generated float buffer of the given size, keeping the datablock."""
+    image.source = "GENERATED"
+    image.generated_width, image.generated_height = width, height
+    image.use_generated_float = True
 
 
 def _restore_active(mesh, active, render):

@@ -1,0 +1,354 @@
+"""Speed against error: Seamless AO and Blender's own route (Smart UV Project + Cycles AO bake).
+
+    make bench          (= .venv/5.0/bin/python tests/bench/report.py --output-dir out/bench)
+
+For each mesh it computes a reference AO at random surface points with many
+rays (cached on disk), then bakes with Seamless AO and with Cycles at several
+settings, and evaluates what each shows at those points: for Seamless AO the
+normal-squared blend through AO_X/Y/Z, for Cycles a bilinear lookup through
+its Smart UV map, both as Blender's Image Texture node samples.  Both use
+binary AO within the same maximum distance (half the object's diagonal).
+
+Seams: for every chart border of a method (Seamless AO: mesh edges where any
+of the three UV maps jumps; Cycles: UV island borders), points a tiny step
+either side of the edge; the seam error is how much the shown AO jumps across
+the edge beyond what the reference jumps (AO itself jumps at sharp creases).
+
+Writes ``report.md`` (table), ``speed_error.png`` (plot) and seam close-up
+renders into the output directory.
+"""
+
+import argparse
+import hashlib
+import json
+import pathlib
+import sys
+import time
+
+import numpy as np
+
+from common import markdown_table
+
+import bpy
+
+from accuracy import errors, reference_ao, shown_seamless, shown_single_uv, surface_samples
+from blender_scenes import cornell_box, sphere_over_plane, suzanne
+from cycles_baseline import UV_NAME, cycles_ao_bake
+from seamless_ao.core.settings import BakeSettings
+from seamless_ao.operators.mesh_data import read_triangles
+
+import conftest  # noqa: F401
+
+PACKAGE = conftest.seamless_ao
+REFERENCE_RAYS = 4096
+POINTS = 2000
+SEAM_EDGES = 300
+SEAMLESS_RUNS = [(256, 16), (512, 16), (512, 64), (1024, 16), (1024, 64)]
+CYCLES_RUNS = [(512, 16), (512, 64), (1024, 16), (1024, 64)]
+
+
+def spiral_ramp_object():
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
+    from meshes import spiral_ramp
+    from blender_scenes import add_object, mesh_from_arrays
+    positions, triangles = spiral_ramp(turns=3.0, steps_per_turn=64, width_steps=6)
+    return add_object("Fold", mesh_from_arrays("Fold", positions, triangles))
+
+
+MESHES = {
+    "cube": lambda: _cube(),
+    "suzanne": lambda: suzanne(2),
+    "cornell": lambda: cornell_box(),
+    "sphere_plane": lambda: sphere_over_plane(),
+    "fold": spiral_ramp_object,
+    "dense": lambda: suzanne(4, name="Dense Suzanne"),
+}
+
+
+def _cube():
+    bpy.ops.mesh.primitive_cube_add()
+    return bpy.context.active_object
+
+
+def fresh(mesh_name):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    PACKAGE.register()
+    ob = MESHES[mesh_name]()
+    bpy.context.view_layer.update()
+    return ob
+
+
+def mesh_key(mesh):
+    digest = hashlib.sha1(mesh.positions.tobytes() + mesh.triangles.tobytes()).hexdigest()[:12]
+    return "{}-{}-{}-{}".format(digest, POINTS, REFERENCE_RAYS, BakeSettings().cone_angle)
+
+
+def reference(ob, mesh, cache):
+    """Reference AO at POINTS random points, cached in ``cache``."""
+    triangle, bary, normals = surface_samples(mesh, POINTS, seed=5)
+    path = cache / "{}-{}.npy".format(ob.name.replace(" ", "_"), mesh_key(mesh))
+    if path.exists():
+        return triangle, bary, normals, np.load(path), 0.0
+    start = time.perf_counter()
+    values = reference_ao(ob, mesh, triangle, bary, normals, rays=REFERENCE_RAYS)
+    np.save(path, values)
+    return triangle, bary, normals, values, time.perf_counter() - start
+
+
+def seam_pairs(mesh, loops, uv_layers, rng, limit=SEAM_EDGES, step=1e-4):
+    """Point pairs either side of UV seams: ``(tri_a, bary_a, tri_b, bary_b)``.
+
+    An edge is a seam when the two triangles sharing it map it to different
+    UVs in any of ``uv_layers`` (each (loops, 2)).
+    """
+    from seamless_ao.core.adjacency import face_adjacency
+    topology = face_adjacency(mesh)
+    welded = topology.welded_triangles
+    sides = []
+    for k in range(3):
+        a, b = welded[:, k], welded[:, (k + 1) % 3]
+        sides.append(np.stack([np.minimum(a, b), np.maximum(a, b), np.arange(len(welded)), np.full(len(welded), k)], 1))
+    sides = np.concatenate(sides)
+    sides = sides[sides[:, 0] != sides[:, 1]]
+    order = np.lexsort((sides[:, 1], sides[:, 0]))
+    sides = sides[order]
+    same = (sides[1:, 0] == sides[:-1, 0]) & (sides[1:, 1] == sides[:-1, 1])
+    first, second = sides[:-1][same], sides[1:][same]
+    seams = np.zeros(len(first), dtype=bool)
+    for uv in uv_layers:
+        for f, s in ((first, second),):
+            fa = uv[loops[f[:, 2], f[:, 3]]]
+            fb = uv[loops[f[:, 2], (f[:, 3] + 1) % 3]]
+            # the same welded vertex in the other triangle
+            s_verts = welded[s[:, 2]]
+            s_loops = loops[s[:, 2]]
+            match_a = np.argmax(s_verts == welded[f[:, 2], f[:, 3]][:, None], axis=1)
+            match_b = np.argmax(s_verts == welded[f[:, 2], (f[:, 3] + 1) % 3][:, None], axis=1)
+            sa = uv[s_loops[np.arange(len(s)), match_a]]
+            sb = uv[s_loops[np.arange(len(s)), match_b]]
+            seams |= (np.abs(fa - sa).max(1) > 1e-6) | (np.abs(fb - sb).max(1) > 1e-6)
+    index = np.flatnonzero(seams & ~mesh.degenerate[first[:, 2]] & ~mesh.degenerate[second[:, 2]])
+    if len(index) > limit:
+        index = rng.choice(index, size=limit, replace=False)
+    pairs = []
+    for i in index:
+        ta, ka = first[i, 2], first[i, 3]
+        tb = second[i, 2]
+        for t in (0.25, 0.5, 0.75):
+            edge_bary = np.zeros(3)
+            edge_bary[ka], edge_bary[(ka + 1) % 3] = 1 - t, t
+            point = edge_bary @ mesh.positions[mesh.triangles[ta]]
+            bary_a = _nudge(mesh, ta, point, step)
+            bary_b = _nudge(mesh, tb, point, step)
+            pairs.append((ta, bary_a, tb, bary_b))
+    if not pairs:
+        return None
+    ta, ba, tb, bb = zip(*pairs)
+    return np.array(ta), np.array(ba), np.array(tb), np.array(bb)
+
+
+def _nudge(mesh, triangle, point, step):
+    """Barycentrics of ``point`` moved ``step`` (relative to mesh size) toward the triangle's centre."""
+    corners = mesh.positions[mesh.triangles[triangle]]
+    centre = corners.mean(axis=0)
+    direction = centre - point
+    length = np.linalg.norm(direction)
+    moved = point + direction / max(length, 1e-300) * min(step * mesh.scale, 0.5 * length)
+    matrix = np.column_stack([corners[1] - corners[0], corners[2] - corners[0]])
+    solution, *_ = np.linalg.lstsq(matrix, moved - corners[0], rcond=None)
+    return np.array([1 - solution.sum(), solution[0], solution[1]])
+
+
+def seam_error(show, ref_a, ref_b, pairs):
+    """Mean and 99th percentile of |jump shown - jump in the reference| across seams."""
+    ta, ba, tb, bb = pairs
+    jump = np.abs((show(ta, ba) - show(tb, bb)) - (ref_a - ref_b))
+    return float(jump.mean()), float(np.percentile(jump, 99))
+
+
+def point_normals(mesh, triangle, bary):
+    normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
+    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+
+
+def run_mesh(name, cache, out, rows, curves):
+    ob = fresh(name)
+    mesh, loops = read_triangles(ob.data)
+    triangle, bary, normals, ref, ref_seconds = reference(ob, mesh, cache)
+    print("{}: {:,} triangles, reference {:.1f} s".format(name, len(mesh.triangles), ref_seconds), flush=True)
+    size = mesh.scale
+    distance = 0.5 * float(np.linalg.norm(
+        (mesh.positions @ np.array(ob.matrix_world)[:3, :3].T).ptp(axis=0)))
+    rng = np.random.default_rng(1)
+    seam_refs = {}
+
+    def seam_reference(kind, pairs):
+        if kind not in seam_refs:
+            ta, ba, tb, bb = pairs
+            a = reference_ao(ob, mesh, ta, ba, point_normals(mesh, ta, ba), rays=1024)
+            b = reference_ao(ob, mesh, tb, bb, point_normals(mesh, tb, bb), rays=1024)
+            seam_refs[kind] = (a, b)
+        return seam_refs[kind]
+
+    for image_size, rays in SEAMLESS_RUNS:
+        report = PACKAGE.bake([ob], image_size=image_size, rays=rays)
+        image = bpy.data.images[report.image]
+        shown = shown_seamless(ob, image, loops, triangle, bary, normals)
+        rmse, p99 = errors(shown, ref)
+        from blender_checks import uv_layer_array
+        layers = [uv_layer_array(ob.data, n) for n in ("AO_X", "AO_Y", "AO_Z")]
+        pairs = seam_pairs(mesh, loops, layers, rng)
+        seam = ("-", "-")
+        if pairs is not None:
+            ref_a, ref_b = seam_reference("seamless", pairs)
+            seam = seam_error(lambda t, b: shown_seamless(ob, image, loops, t, b, point_normals(mesh, t, b)),
+                              ref_a, ref_b, pairs)
+        t = report.timings
+        rows.append([name, "Seamless AO", "{}², {} rays".format(image_size, rays), "{:.2f}".format(report.seconds),
+                     "charts {:.2f} + pack {:.2f} + raster {:.2f} + rays {:.2f}".format(
+                         t["charts"], t["pack"], t["rasterise"], t["rays"]),
+                     "{:.4f}".format(rmse), "{:.4f}".format(p99), _fmt_seam(seam)])
+        curves.setdefault((name, "Seamless AO"), []).append((report.seconds, rmse, "{}/{}".format(image_size, rays)))
+        print("  " + " | ".join(rows[-1][1:]), flush=True)
+    PACKAGE.clear([ob])
+    for image_size, samples in CYCLES_RUNS:
+        image, unwrap, bake = cycles_ao_bake(ob, image_size, samples, distance)
+        shown = shown_single_uv(ob, image, UV_NAME, loops, triangle, bary)
+        rmse, p99 = errors(shown, ref)
+        from blender_checks import uv_layer_array
+        pairs = seam_pairs(mesh, loops, [uv_layer_array(ob.data, UV_NAME)], rng)
+        seam = ("-", "-")
+        if pairs is not None:
+            ref_a, ref_b = seam_reference("cycles", pairs)
+            seam = seam_error(lambda t, b: shown_single_uv(ob, image, UV_NAME, loops, t, b), ref_a, ref_b, pairs)
+        rows.append([name, "Cycles", "{}², {} samples".format(image_size, samples), "{:.2f}".format(unwrap + bake),
+                     "unwrap {:.2f} + bake {:.2f}".format(unwrap, bake), "{:.4f}".format(rmse), "{:.4f}".format(p99),
+                     _fmt_seam(seam)])
+        curves.setdefault((name, "Cycles"), []).append((unwrap + bake, rmse, "{}/{}".format(image_size, samples)))
+        print("  " + " | ".join(rows[-1][1:]), flush=True)
+        bpy.data.images.remove(image)
+    if name == "suzanne":
+        seam_renders(ob, out)
+
+
+def _fmt_seam(seam):
+    if seam[0] == "-":
+        return "-"
+    return "{:.4f} / {:.4f}".format(*seam)
+
+
+def seam_renders(ob, out):
+    """Close-ups of the Cycles UV island border that jumps most, shaded by each method's AO (emission)."""
+    from blender_checks import uv_layer_array
+    scene = bpy.context.scene
+    mesh, loops = read_triangles(ob.data)
+    PACKAGE.bake([ob], image_size=1024, rays=64)
+    image, _, _ = cycles_ao_bake(ob, 1024, 64, 0.5 * mesh.scale)
+    pairs = seam_pairs(mesh, loops, [uv_layer_array(ob.data, UV_NAME)], np.random.default_rng(2), limit=2000)
+    ta, ba, tb, bb = pairs
+    jump = np.abs(shown_single_uv(ob, image, UV_NAME, loops, ta, ba) - shown_single_uv(ob, image, UV_NAME, loops, tb, bb))
+    worst = int(np.argmax(jump))
+    matrix = np.array(ob.matrix_world)
+    point = ba[worst] @ mesh.positions[mesh.triangles[ta[worst]]]
+    normal = point_normals(mesh, ta[worst:worst + 1], ba[worst:worst + 1])[0]
+    world_point = matrix[:3, :3] @ point + matrix[:3, 3]
+    world_normal = matrix[:3, :3] @ normal
+    world_normal /= np.linalg.norm(world_normal)
+    from mathutils import Vector
+    camera = bpy.data.objects.new("Seam Camera", bpy.data.cameras.new("Seam Camera"))
+    scene.collection.objects.link(camera)
+    camera.location = Vector(world_point + world_normal * 0.18 * mesh.scale)
+    camera.rotation_euler = Vector(-world_normal).to_track_quat("-Z", "Y").to_euler()
+    camera.data.lens = 50.0
+    camera.data.clip_start = 0.001
+    scene.camera = camera
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 16
+    scene.render.resolution_x = scene.render.resolution_y = 400
+    scene.view_settings.view_transform = "Standard"
+    scene.render.image_settings.file_format = "PNG"
+    paths = []
+    for label in ("seamless", "cycles"):
+        tree = ob.active_material.node_tree
+        if label == "seamless":
+            PACKAGE.set_preview([ob], True)
+        else:
+            PACKAGE.set_preview([ob], False)
+            texture = tree.nodes.new("ShaderNodeTexImage")
+            texture.image = image
+            uv = tree.nodes.new("ShaderNodeUVMap")
+            uv.uv_map = UV_NAME
+            tree.links.new(uv.outputs["UV"], texture.inputs["Vector"])
+            emission = tree.nodes.new("ShaderNodeEmission")
+            tree.links.new(texture.outputs["Color"], emission.inputs["Color"])
+            output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+            tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
+        path = out / "seam_{}.png".format(label)
+        scene.render.filepath = str(path)
+        bpy.ops.render.render(write_still=True)
+        paths.append(path)
+    from PIL import Image
+    left, right = (Image.open(p) for p in paths)
+    both = Image.new("RGB", (left.width + right.width, left.height))
+    both.paste(left, (0, 0))
+    both.paste(right, (left.width, 0))
+    both.save(out / "seam_side_by_side.png")
+    print("  wrote seam close-ups (left Seamless AO, right Cycles) to", out / "seam_side_by_side.png")
+
+
+def plot(curves, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    names = sorted({name for name, _ in curves})
+    fig, axes = plt.subplots(2, (len(names) + 1) // 2, figsize=(4.2 * ((len(names) + 1) // 2), 7.5), squeeze=False)
+    for ax, name in zip(axes.ravel(), names):
+        for method, style in (("Seamless AO", "o-"), ("Cycles", "s--")):
+            points = sorted(curves.get((name, method), []))
+            if not points:
+                continue
+            ax.plot([p[0] for p in points], [p[1] for p in points], style, label=method)
+            for seconds, rmse, label in points:
+                ax.annotate(label, (seconds, rmse), fontsize=6, xytext=(2, 2), textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_title(name)
+        ax.set_xlabel("time (s, log)")
+        ax.set_ylabel("RMSE vs reference")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in axes.ravel()[len(names):]:
+        ax.axis("off")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--output-dir", default="out/bench")
+    parser.add_argument("--meshes", nargs="+", default=list(MESHES))
+    args = parser.parse_args()
+    out = pathlib.Path(args.output_dir).resolve()
+    cache = out / "cache"
+    cache.mkdir(parents=True, exist_ok=True)
+    rows, curves = [], {}
+    started = time.perf_counter()
+    for name in args.meshes:
+        run_mesh(name, cache, out, rows, curves)
+    headers = ["mesh", "method", "settings", "time s", "stages s", "RMSE", "p99 error", "seam mean / p99"]
+    table = markdown_table(headers, rows)
+    import platform
+    import os
+    machine = "{} ({} cores), Blender {}".format(platform.processor() or platform.machine(), os.cpu_count(),
+                                                 bpy.app.version_string)
+    text = "Speed against error on {}; {} reference rays at {} points per mesh; total {:.0f} s.\n\n{}\n".format(
+        machine, REFERENCE_RAYS, POINTS, time.perf_counter() - started, table)
+    (out / "report.md").write_text(text)
+    (out / "curves.json").write_text(json.dumps({"|".join(k): v for k, v in curves.items()}))
+    plot(curves, out / "speed_error.png")
+    print(text)
+    print("Wrote", out / "report.md", "and", out / "speed_error.png")
+
+
+if __name__ == "__main__":
+    main()
+    conftest.hard_exit(0)
