@@ -30,10 +30,12 @@ Robustness, all relative to the object's size:
 * ``ignore_backfaces``: a ray that hits a face from behind (an open scan,
   seen through a hole) continues through it.
 
-Adaptive sampling: the first quarter of the rays (a stratified set of their
-own) are cast for every texel; where they all agree (all open, or with binary
-falloff all blocked) the texel keeps that value and the other rays are not
-cast.
+Adaptive sampling: the first quarter of the rays (at least 16; a stratified
+set of their own) are cast for every texel; where they all agree (all open,
+or with binary falloff all blocked), and the texel's neighbours in the atlas
+agree on the same answer, the texel keeps that value and the other rays are
+not cast (:class:`..pipeline.AOJob`).  Near an occlusion boundary some
+neighbour disagrees, so those texels always get every ray.
 """
 
 from dataclasses import dataclass
@@ -66,8 +68,8 @@ class AOParams:
 
     @property
     def pilot_rays(self):
-        """Rays cast for every texel before the adaptive decision."""
-        return self.rays if not self.adaptive else max(1, min(self.rays, max(4, self.rays // 4)))
+        """Rays cast for every texel before the adaptive decision (a stratified prefix of the sequence)."""
+        return self.rays if not self.adaptive else min(self.rays, max(16, self.rays // 4))
 
 
 class BVHCaster:
@@ -204,48 +206,67 @@ def cast_with_options(caster, origins, directions, params):
     return distance
 
 
-def shade(points, normals, geometric, texel_ids, params, caster, samples=texel_samples):
-    """AO of some points (all in ray space).
+def occlusion_sums(points, normals, geometric, texel_ids, ray_indices, params, caster, samples=texel_samples):
+    """Summed occlusion of some rays (``ray_indices`` of the sequence) of some points, in ray space.
 
     Parameters
     ----------
     points, normals, geometric : (k, 3) float64
     texel_ids : (k,) int, stable ids (the per-texel scramble depends on them)
+    ray_indices : (r,) int
     params : AOParams
     caster : object with ``cast``
+
+    Returns
+    -------
+    (k,) float64 in [0, r]
+    """
+    if not len(points) or not len(ray_indices):
+        return np.zeros(len(points))
+    side = np.where((geometric * normals).sum(axis=1) < 0.0, -1.0, 1.0)
+    geometric = geometric * side[:, None]
+    origins = points + params.offset * geometric
+    directions, elevation = ray_directions(normals, geometric, texel_ids, ray_indices, params, samples)
+    count = len(ray_indices)
+    start = np.repeat(origins, count, axis=0)
+    distance = cast_with_options(caster, start, directions.reshape(-1, 3), params).reshape(len(points), count)
+    occlusion = occlusion_of_hits(distance, params)
+    if params.horizon_bias > 0.0:
+        occlusion *= np.clip(np.arcsin(np.clip(elevation, -1, 1)) / np.radians(params.horizon_bias), 0.0, 1.0)
+    return occlusion.sum(axis=1)
+
+
+def pilot_agreement(sums, params):
+    """Code per texel after the pilot rays: 0 = undecided, 1 = all open, 2 = all fully blocked."""
+    count = params.pilot_rays
+    code = np.zeros(len(sums), dtype=np.int8)
+    code[sums == 0.0] = 1
+    if params.falloff == "NONE" and params.horizon_bias == 0.0:
+        code[sums == count] = 2
+    return code
+
+
+def shade(points, normals, geometric, texel_ids, params, caster, samples=texel_samples):
+    """AO of some points (all in ray space), each point deciding alone when to stop early.
+
+    (:class:`..pipeline.AOJob` also asks a texel's neighbours before stopping.)
 
     Returns
     -------
     ao : (k,) float32 in [0, 1]
     rays_cast : int
     """
-    side = np.where((geometric * normals).sum(axis=1) < 0.0, -1.0, 1.0)
-    geometric = geometric * side[:, None]
-    origins = points + params.offset * geometric
-    total = np.zeros(len(points))
-    rays_cast = 0
+    pilot = np.arange(params.pilot_rays)
+    rest = np.arange(params.pilot_rays, params.rays)
+    total = occlusion_sums(points, normals, geometric, texel_ids, pilot, params, caster, samples)
+    rays_cast = len(points) * len(pilot)
     todo = np.arange(len(points))
-    stages = [np.arange(params.pilot_rays), np.arange(params.pilot_rays, params.rays)]
-    for stage, ray_indices in enumerate(stages):
-        if not len(ray_indices) or not len(todo):
-            continue
-        directions, elevation = ray_directions(normals[todo], geometric[todo], texel_ids[todo], ray_indices, params,
-                                               samples)
-        count = len(ray_indices)
-        start = np.repeat(origins[todo], count, axis=0)
-        distance = cast_with_options(caster, start, directions.reshape(-1, 3), params).reshape(len(todo), count)
-        rays_cast += distance.size
-        occlusion = occlusion_of_hits(distance, params)
-        if params.horizon_bias > 0.0:
-            occlusion *= np.clip(np.arcsin(np.clip(elevation, -1, 1)) / np.radians(params.horizon_bias), 0.0, 1.0)
-        if stage == 0 and len(stages[1]):
-            sums = occlusion.sum(axis=1)
-            agreed = (sums == 0.0) | ((sums == count) & (params.falloff == "NONE") & (params.horizon_bias == 0.0))
-            agreed &= params.adaptive
-            total[todo[agreed]] = sums[agreed] / count * params.rays     # extrapolate the agreed value
-            total[todo[~agreed]] = sums[~agreed]
-            todo = todo[~agreed]
-        else:
-            total[todo] += occlusion.sum(axis=1)
+    if len(rest):
+        decided = pilot_agreement(total, params) > 0 if params.adaptive else np.zeros(len(points), dtype=bool)
+        total[decided] *= params.rays / len(pilot)               # the agreed value, for all rays
+        todo = todo[~decided]
+        total[todo] += occlusion_sums(points[todo], normals[todo], geometric[todo], texel_ids[todo], rest, params,
+                                      caster, samples)
+        rays_cast += len(todo) * len(rest)
     ao = 1.0 - total / params.rays
     return np.clip(ao, 0.0, 1.0).astype(np.float32), rays_cast

@@ -80,7 +80,7 @@ class BakeSettings:
         True, "Adaptive Sampling",
         "Stop after the first quarter of the rays when they all agree (all open or all blocked)")
     denoise: bool = _setting(
-        False, "Denoise",
+        True, "Denoise",
         "Edge-aware filter over each texel's surface neighbours (never across creases or contact shadows)")
     seed: int = _setting(0, "Seed", "Random seed; the same seed gives the same image", min=0, max=2**31 - 1)
     use_scene_occluders: bool = _setting(

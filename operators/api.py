@@ -21,6 +21,7 @@ import bpy
 import numpy as np
 
 from ..core.ao import ORIGIN_OFFSET, AOParams, BVHCaster, ray_space
+from ..core.denoise import denoise
 from ..core.errors import BakeCancelled, SeamlessAOError
 from ..core.pipeline import AOJob, build_layout, estimated_bytes, texel_image
 from ..core.settings import BakeSettings
@@ -183,8 +184,14 @@ class BakeSession:
                 yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)
             ao_seconds = job.seconds
             self._free_casters()
+            ao = job.ao
+            if self.settings.denoise:
+                yield 0.95, "Denoising"
+                start = time.perf_counter()
+                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, job.computed, self.settings.rays)
+                layout.timings["denoise"] = time.perf_counter() - start
             yield 0.96, "Writing image, UV maps and materials"
-            image = texel_image(layout.texels, job.ao, job.computed)
+            image = texel_image(layout.texels, ao, job.computed)
             warnings = self._write(layout, image)
             timings = dict(layout.timings, rays=ao_seconds)
             self.report = BakeReport(
