@@ -151,8 +151,13 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
         faces = _xatlas_faces(local_uv, member_chart, topology.welded_triangles[member_triangle], live_members,
                               chart_low, chart_high, texels_per_unit)
         atlas = xatlas.Atlas()
-        # Texel units: xatlas works in float32 and drops faces it finds degenerate.
-        atlas.add_uv_mesh((faces.vertex_uv * texels_per_unit).astype(np.float32), faces.indices, faces.materials)
+        # Texel units from each chart's own corner: xatlas works in float32 and
+        # drops faces it finds degenerate (an object 1e5 units from the origin
+        # would otherwise lose whole texels).
+        vertex_chart = np.zeros(len(faces.vertex_uv), dtype=np.int64)
+        vertex_chart[faces.indices.astype(np.int64).ravel()] = np.repeat(faces.chart, 3)
+        local = (faces.vertex_uv - chart_low[vertex_chart]) * texels_per_unit
+        atlas.add_uv_mesh(local.astype(np.float32), faces.indices, faces.materials)
         options = xatlas.PackOptions()
         options.padding = int(padding)
         options.bilinear = True

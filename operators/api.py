@@ -293,7 +293,7 @@ class BakeSession:
             _fail_here("uv_maps")
             for ob in self.objects:
                 warnings += transaction.materials(ob, image, self.settings.hook_materials, self.objects)
-                ob[IMAGE_KEY] = image.name
+                transaction.set_property(ob, IMAGE_KEY, image.name)
             _fail_here("materials")
             if self.settings.save_image != "NONE":
                 save_image_file(image, image_values, self.settings.save_image)
@@ -372,6 +372,18 @@ class Transaction:
             action()
         self.undo.clear()
 
+    def set_property(self, owner, key, value):
+        """``owner[key] = value``, undone by restoring (or deleting) the old value."""
+        old = owner.get(key)
+
+        def restore(owner=owner, key=key, old=old):
+            if old is None:
+                owner.pop(key, None)
+            else:
+                owner[key] = old
+        self.undo.append(restore)
+        owner[key] = value
+
     def image(self, name, values):
         """The AO image, new or (if the add-on made it) overwritten in place; packed into the .blend."""
         height, width = values.shape
@@ -439,7 +451,9 @@ class Transaction:
                 ob.data.materials.append(material)
                 self.undo.append(lambda mesh=ob.data: mesh.materials.pop())
             self.undo.append(lambda material=material: bpy.data.materials.remove(material))
-            ob[MATERIAL_KEY] = material.name
+            self.set_property(ob, MATERIAL_KEY, material.name)
+        if find_node_group() is None:
+            self.undo.append(_remove_node_group_if_unused)
         baked_meshes = {o.data for o in baked_objects}
         for material in {slot.material for slot in ob.material_slots if slot.material is not None}:
             if material.library is not None:
@@ -461,6 +475,12 @@ def _regenerate(image, width, height):
     image.source = "GENERATED"
     image.generated_width, image.generated_height = width, height
     image.use_generated_float = True
+
+
+def _remove_node_group_if_unused():
+    group = find_node_group()
+    if group is not None and group.users == 0:
+        bpy.data.node_groups.remove(group)
 
 
 def _restore_active(mesh, active, render):

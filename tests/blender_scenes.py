@@ -96,3 +96,11 @@ def demo_scene():
     monkey = suzanne(2)
     monkey.location = (3.0, 0.0, 1.0)
     return [box, sphere, monkey]
+
+
+def mesh_from_faces(name, positions, faces):
+    """A mesh from positions (v, 3) and faces (lists of vertex indices, any length)."""
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata([tuple(map(float, p)) for p in positions], [], [tuple(map(int, f)) for f in faces])
+    mesh.validate()
+    return mesh

@@ -71,6 +71,8 @@ def _cube():
 
 
 def fresh(mesh_name):
+    if hasattr(bpy.types.Scene, "seamless_ao"):
+        PACKAGE.unregister()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     PACKAGE.register()
     ob = MESHES[mesh_name]()
