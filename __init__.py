@@ -9,6 +9,8 @@ Python API (also what the operator and the command line use)::
 
     from bl_ext.user_default import seamless_ao
     report = seamless_ao.bake([obj], rays=128)
+    seamless_ao.resample([obj], uv_map="UVMap", size=2048)     # glTF-ready texture
+    seamless_ao.to_color_attribute([obj])                      # colour attribute "AO"
     seamless_ao.clear([obj])
 
 The package must be imported with relative imports only: Blender loads it as
@@ -19,8 +21,10 @@ from . import operators, panels
 from .core.errors import BakeCancelled, SeamlessAOError
 from .core.settings import BakeSettings
 from .operators.api import BakeReport, bake, clear, set_preview
+from .operators.export import resample, to_color_attribute
 
-__all__ = ["bake", "clear", "set_preview", "BakeSettings", "BakeReport", "SeamlessAOError", "BakeCancelled"]
+__all__ = ["bake", "clear", "set_preview", "resample", "to_color_attribute", "BakeSettings", "BakeReport",
+           "SeamlessAOError", "BakeCancelled"]
 
 
 def register():

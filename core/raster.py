@@ -66,11 +66,6 @@ class Texels:
 def rasterise(atlas, mesh, padding=4):
     """All texels that carry AO, with the member each one samples.
 
-    Scanline rasterisation: for every member triangle and texel row, the
-    covered texels are one interval (centres inside the triangle) and the
-    near texels another (centres within one texel of it); only the near
-    texels that no triangle covers are scored against each other.
-
     Parameters
     ----------
     atlas : Atlas
@@ -82,10 +77,31 @@ def rasterise(atlas, mesh, padding=4):
     -------
     Texels
     """
-    width, height = atlas.width, atlas.height
-    member_map = np.full(width * height, -1, dtype=np.int64 if width * height >= 2**31 else np.int32)
     live = np.flatnonzero(atlas.member_placed & ~mesh.degenerate[atlas.member_triangle])
-    uv = atlas.member_uv[live]
+    return rasterise_triangles(atlas.member_uv, live, atlas.width, atlas.height, padding)
+
+
+def rasterise_triangles(triangle_uv, live, width, height, padding=4):
+    """Texels of an image covered by (or within one texel of) some 2D triangles.
+
+    Scanline rasterisation: for every triangle and texel row, the covered
+    texels are one interval (centres inside the triangle) and the near texels
+    another (centres within one texel of it); only the near texels that no
+    triangle covers are scored against each other.
+
+    Parameters
+    ----------
+    triangle_uv : (m, 3, 2) float64, texel coordinates
+    live : (k,) int, which triangles to draw
+    width, height : int
+    padding : int, rings grown around the near texels
+
+    Returns
+    -------
+    Texels whose ``member`` indexes ``triangle_uv``.
+    """
+    member_map = np.full(width * height, -1, dtype=np.int64 if width * height >= 2**31 else np.int32)
+    uv = triangle_uv[live]
     low, high = uv.min(axis=1), uv.max(axis=1)
     y0 = np.clip(np.ceil(low[:, 1] - 1.5), 0, height - 1).astype(np.int64)
     y1 = np.clip(np.floor(high[:, 1] + 0.5), 0, height - 1).astype(np.int64)

@@ -654,6 +654,8 @@ def clear(objects):
                     bpy.data.materials.remove(material)
             del ob[MATERIAL_KEY]
             touched = True
+        from .export import clear_exports
+        touched |= clear_exports(ob)
         image_name = ob.get(IMAGE_KEY)
         if image_name:
             image = bpy.data.images.get(image_name)

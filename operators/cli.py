@@ -28,7 +28,17 @@ def build_parser():
     actions = parser.add_subparsers(dest="action", required=True)
     bake = actions.add_parser("bake", help="bake AO for some mesh objects and (optionally) save the file")
     clear = actions.add_parser("clear", help="remove what Seamless AO added to some mesh objects")
-    for sub in (bake, clear):
+    export_parser = actions.add_parser(
+        "export", help="resample baked AO onto the objects' own UV map (glTF-ready) and/or a colour attribute")
+    export_parser.add_argument("--uv-map", metavar="NAME", help="target UV map (default: the render-active one)")
+    export_parser.add_argument("--size", type=int, default=1024, metavar="N", help="resampled image size")
+    export_parser.add_argument("--padding", type=int, default=8, metavar="N", help="island dilation in texels")
+    export_parser.add_argument("--gltf-occlusion", action=argparse.BooleanOptionalAction, default=True,
+                               help="wire the image in as the glTF occlusion texture")
+    export_parser.add_argument("--no-texture", action="store_true", help="skip the resampled texture")
+    export_parser.add_argument("--color-attribute", choices=["CORNER", "POINT"],
+                               help="also write colour attribute 'AO' on this domain")
+    for sub in (bake, clear, export_parser):
         sub.add_argument("--objects", nargs="+", metavar="NAME",
                          help="mesh objects to use (default: the selected meshes, else the active object)")
         output = sub.add_mutually_exclusive_group()
@@ -91,6 +101,14 @@ def run(argv):
             print(report.summary())
             for warning in report.warnings:
                 print("warning: " + warning)
+        elif args.action == "export":
+            from . import export
+            if not args.no_texture:
+                names = export.resample(objects, args.uv_map, args.size, args.padding, args.gltf_occlusion)
+                print("Resampled AO into " + ", ".join(names))
+            if args.color_attribute:
+                export.to_color_attribute(objects, args.color_attribute)
+                print("Wrote colour attribute 'AO' ({})".format(args.color_attribute.lower()))
         else:
             count = api.clear(objects)
             print("Cleared Seamless AO from {} object(s)".format(count))

@@ -60,6 +60,19 @@ def _stats_annotations():
         "last_bake_rays": FloatProperty(name="Rays", description="Rays the last bake cast", default=0.0),
         "last_bake_utilisation": FloatProperty(
             name="Atlas Use", description="Fraction of the image covered by charts", default=0.0),
+        "export_uv_map": StringProperty(
+            name="UV Map", description="UV map to resample the AO onto (empty: the render-active one)", default=""),
+        "export_size": IntProperty(name="Size", description="Width and height of the resampled image",
+                                   default=1024, min=8, max=16384),
+        "export_padding": IntProperty(name="Padding", description="Texels of dilation around every UV island",
+                                      default=8, min=0, max=64),
+        "export_gltf_occlusion": BoolProperty(
+            name="glTF Occlusion", default=True,
+            description="Wire the resampled image into the materials as the glTF occlusion texture"),
+        "export_domain": EnumProperty(
+            name="Domain", default="CORNER",
+            items=(("CORNER", "Face Corner", "One value per face corner"),
+                   ("POINT", "Vertex", "One value per vertex (the corners averaged)"))),
         "preview": BoolProperty(
             name="Preview AO Only",
             description="Show only the baked AO on the baked objects' materials (emission), to judge it",

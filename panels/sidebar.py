@@ -119,3 +119,31 @@ class VIEW3D_PT_seamless_ao_output(bpy.types.Panel):
         column = layout.column()
         column.prop(settings, "hook_materials")
         column.prop(settings, "save_image")
+
+
+class VIEW3D_PT_seamless_ao_export(bpy.types.Panel):
+    bl_label = "Export"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Seamless AO"
+    bl_parent_id = "VIEW3D_PT_seamless_ao"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.seamless_ao
+        column = layout.column()
+        ob = context.active_object
+        if ob is not None and ob.type == "MESH":
+            column.prop_search(settings, "export_uv_map", ob.data, "uv_layers")
+        else:
+            column.prop(settings, "export_uv_map")
+        column.prop(settings, "export_size")
+        column.prop(settings, "export_padding")
+        column.prop(settings, "export_gltf_occlusion")
+        column.operator("object.seamless_ao_resample", icon="UV")
+        column.separator()
+        column.prop(settings, "export_domain")
+        column.operator("object.seamless_ao_to_color", icon="GROUP_VCOL")
