@@ -16,6 +16,8 @@ from .errors import SeamlessAOError
 from .mesh import TriangleMesh, require_faces
 from .raster import rasterise
 
+#: Target duration of one :meth:`AOJob.step` (seconds).
+STEP_SECONDS = 0.3
 #: Distant parts of one chart must stay this many texels apart (bilinear reads 1).
 SEPARATION_TEXELS = 3.0
 
@@ -168,7 +170,7 @@ class AOJob:
         neighbours by :func:`texel_image`, which is what mip-maps need).
     """
 
-    def __init__(self, layout, parts, batch_rays=1 << 20, ray_rings=1):
+    def __init__(self, layout, parts, batch_rays=1 << 19, ray_rings=1):
         self.layout = layout
         self.parts = parts
         texels = layout.texels
@@ -220,6 +222,12 @@ class AOJob:
         self.rays_cast += len(batch) * len(self.rays)
         self.work_done += len(batch) * len(self.rays)
         self.position += len(batch)
+        # Aim at STEP_SECONDS per step, so a caller polling between steps
+        # (ESC in the UI) never waits long, without a step per thousand rays.
+        elapsed = time.perf_counter() - start
+        if elapsed > 0:
+            wanted = self.batch_rays * STEP_SECONDS / elapsed
+            self.batch_rays = int(min(max(wanted, self.batch_rays / 4, 1 << 16), self.batch_rays * 4, 1 << 23))
         if self.pilot and self.position >= len(self.queue):
             self._after_pilot()
         if self.finished:

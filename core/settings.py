@@ -78,7 +78,8 @@ class BakeSettings:
         min=0.0, max=45.0, unit="°")
     adaptive: bool = _setting(
         True, "Adaptive Sampling",
-        "Stop after the first quarter of the rays when they all agree (all open or all blocked)")
+        "Stop a texel after the first quarter of its rays when they and its neighbours' all agree "
+        "(all open or all blocked)")
     denoise: bool = _setting(
         True, "Denoise",
         "Edge-aware filter over each texel's surface neighbours (never across creases or contact shadows)")
@@ -101,7 +102,8 @@ class BakeSettings:
         256.0, "Texel Density", "Texels per scene unit (used when Resolution By is Texel Density)",
         min=1.0e-6, max=1.0e9, unit="texels per scene unit")
     padding: int = _setting(
-        4, "Padding", "Texels around each chart that also get AO, so filtering never reads an empty texel",
+        4, "Padding", "Texels around each chart kept free of other charts and filled with AO (the first ring "
+        "gets rays of its own), so filtering and mip-maps never read an empty texel",
         min=2, max=32, unit="texels")
     memory_budget_mb: int = _setting(
         4096, "Memory Budget", "Refuse to start a bake estimated to need more memory than this",

@@ -679,6 +679,14 @@ def set_preview(objects, enabled):
     return changed
 
 
+def baked_selection_problem(context, missing):
+    """:func:`selection_problem`, or ``missing`` if none of the selected meshes has a bake."""
+    problem = selection_problem(context)
+    if not problem and not any(has_bake(ob) for ob in target_objects(context)):
+        problem = missing
+    return problem
+
+
 def has_bake(ob):
     """True if ``ob`` carries anything a bake added."""
     if ob is None or ob.type != "MESH":

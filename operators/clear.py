@@ -14,9 +14,7 @@ class OBJECT_OT_seamless_ao_clear(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        problem = api.selection_problem(context)
-        if not problem and not any(api.has_bake(ob) for ob in api.target_objects(context)):
-            problem = "The selected meshes have no Seamless AO bake to clear"
+        problem = api.baked_selection_problem(context, "The selected meshes have no Seamless AO bake to clear")
         if problem:
             cls.poll_message_set(problem)
             return False

@@ -10,14 +10,20 @@ DOMAINS = (("CORNER", "Face Corner", "One value per face corner (sharp where the
            ("POINT", "Vertex", "One value per vertex (the corners averaged)"))
 
 
-def _baked_selection_problem(context):
-    problem = api.selection_problem(context)
-    if not problem and not any(api.has_bake(ob) for ob in api.target_objects(context)):
-        problem = "Bake Seamless AO first: the selected meshes have no bake to export"
-    return problem
+class NeedsBake:
+    """Poll shared by the export operators: a baked mesh must be selected."""
+
+    @classmethod
+    def poll(cls, context):
+        problem = api.baked_selection_problem(
+            context, "Bake Seamless AO first: the selected meshes have no bake to export")
+        if problem:
+            cls.poll_message_set(problem)
+            return False
+        return True
 
 
-class OBJECT_OT_seamless_ao_resample(bpy.types.Operator):
+class OBJECT_OT_seamless_ao_resample(NeedsBake, bpy.types.Operator):
     """Write the blended AO into a new image on one of the object's own UV maps (for engines and glTF)"""
 
     bl_idname = "object.seamless_ao_resample"
@@ -31,14 +37,6 @@ class OBJECT_OT_seamless_ao_resample(bpy.types.Operator):
                          min=0, max=64)
     gltf_occlusion: BoolProperty(name="glTF Occlusion", default=True,
                                  description="Wire the image into the materials as the glTF occlusion texture")
-
-    @classmethod
-    def poll(cls, context):
-        problem = _baked_selection_problem(context)
-        if problem:
-            cls.poll_message_set(problem)
-            return False
-        return True
 
     def invoke(self, context, event):
         props = context.scene.seamless_ao
@@ -58,7 +56,7 @@ class OBJECT_OT_seamless_ao_resample(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class OBJECT_OT_seamless_ao_to_color(bpy.types.Operator):
+class OBJECT_OT_seamless_ao_to_color(NeedsBake, bpy.types.Operator):
     """Write the blended AO into a colour attribute "AO" (real-time use without textures)"""
 
     bl_idname = "object.seamless_ao_to_color"
@@ -66,14 +64,6 @@ class OBJECT_OT_seamless_ao_to_color(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     domain: EnumProperty(name="Domain", items=DOMAINS, default="CORNER")
-
-    @classmethod
-    def poll(cls, context):
-        problem = _baked_selection_problem(context)
-        if problem:
-            cls.poll_message_set(problem)
-            return False
-        return True
 
     def invoke(self, context, event):
         if not self.properties.is_property_set("domain"):

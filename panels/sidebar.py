@@ -3,11 +3,34 @@
 import bpy
 
 
-class VIEW3D_PT_seamless_ao(bpy.types.Panel):
-    bl_label = "Seamless AO"
+class SidebarPanel:
+    """What every Seamless AO panel shares: where it lives, and a property-split column."""
+
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Seamless AO"
+
+    def settings_column(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        return layout.column(), context.scene.seamless_ao
+
+
+class SubPanel(SidebarPanel):
+    bl_parent_id = "VIEW3D_PT_seamless_ao"
+    bl_options = {"DEFAULT_CLOSED"}
+    #: Settings drawn one per row, in order.
+    settings = ()
+
+    def draw(self, context):
+        column, settings = self.settings_column(context)
+        for name in self.settings:
+            column.prop(settings, name)
+
+
+class VIEW3D_PT_seamless_ao(SidebarPanel, bpy.types.Panel):
+    bl_label = "Seamless AO"
 
     def draw(self, context):
         layout = self.layout
@@ -32,117 +55,54 @@ class VIEW3D_PT_seamless_ao(bpy.types.Panel):
             grid.label(text="{:.0%}".format(settings.last_bake_utilisation))
 
 
-class VIEW3D_PT_seamless_ao_rays(bpy.types.Panel):
+class VIEW3D_PT_seamless_ao_rays(SubPanel, bpy.types.Panel):
     bl_label = "Rays"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Seamless AO"
-    bl_parent_id = "VIEW3D_PT_seamless_ao"
+    bl_options = set()
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        settings = context.scene.seamless_ao
-        column = layout.column()
+        column, settings = self.settings_column(context)
         column.prop(settings, "rays")
         column.prop(settings, "auto_distance")
         row = column.row()
         row.enabled = not settings.auto_distance
         row.prop(settings, "max_distance")
-        column.prop(settings, "cone_angle")
-        column.prop(settings, "falloff")
-        column.prop(settings, "distribution")
-        column.prop(settings, "adaptive")
-        column.prop(settings, "denoise")
-        column.prop(settings, "seed")
+        for name in ("cone_angle", "falloff", "distribution", "adaptive", "denoise", "seed"):
+            column.prop(settings, name)
 
 
-class VIEW3D_PT_seamless_ao_occluders(bpy.types.Panel):
+class VIEW3D_PT_seamless_ao_occluders(SubPanel, bpy.types.Panel):
     bl_label = "Occluders"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Seamless AO"
-    bl_parent_id = "VIEW3D_PT_seamless_ao"
-    bl_options = {"DEFAULT_CLOSED"}
-
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        settings = context.scene.seamless_ao
-        column = layout.column()
-        column.prop(settings, "use_scene_occluders")
-        column.prop(settings, "use_ground_plane")
-        column.prop(settings, "ignore_backfaces")
-        column.prop(settings, "horizon_bias")
-        column.prop(settings, "ray_caster")
+    settings = ("use_scene_occluders", "use_ground_plane", "ignore_backfaces", "horizon_bias", "ray_caster")
 
 
-class VIEW3D_PT_seamless_ao_image(bpy.types.Panel):
+class VIEW3D_PT_seamless_ao_image(SubPanel, bpy.types.Panel):
     bl_label = "Charts and Image"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Seamless AO"
-    bl_parent_id = "VIEW3D_PT_seamless_ao"
-    bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        settings = context.scene.seamless_ao
-        column = layout.column()
+        column, settings = self.settings_column(context)
         column.prop(settings, "size_mode")
-        if settings.size_mode == "IMAGE_SIZE":
-            column.prop(settings, "image_size")
-        else:
-            column.prop(settings, "texel_density")
-        column.prop(settings, "padding")
-        column.prop(settings, "compare_angle")
-        column.prop(settings, "memory_budget_mb")
+        column.prop(settings, "image_size" if settings.size_mode == "IMAGE_SIZE" else "texel_density")
+        for name in ("padding", "compare_angle", "memory_budget_mb"):
+            column.prop(settings, name)
 
 
-class VIEW3D_PT_seamless_ao_output(bpy.types.Panel):
+class VIEW3D_PT_seamless_ao_output(SubPanel, bpy.types.Panel):
     bl_label = "Output"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Seamless AO"
-    bl_parent_id = "VIEW3D_PT_seamless_ao"
-    bl_options = {"DEFAULT_CLOSED"}
-
-    def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        settings = context.scene.seamless_ao
-        column = layout.column()
-        column.prop(settings, "hook_materials")
-        column.prop(settings, "save_image")
+    settings = ("hook_materials", "save_image")
 
 
-class VIEW3D_PT_seamless_ao_export(bpy.types.Panel):
+class VIEW3D_PT_seamless_ao_export(SubPanel, bpy.types.Panel):
     bl_label = "Export"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Seamless AO"
-    bl_parent_id = "VIEW3D_PT_seamless_ao"
-    bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
-        settings = context.scene.seamless_ao
-        column = layout.column()
+        column, settings = self.settings_column(context)
         ob = context.active_object
         if ob is not None and ob.type == "MESH":
             column.prop_search(settings, "export_uv_map", ob.data, "uv_layers")
         else:
             column.prop(settings, "export_uv_map")
-        column.prop(settings, "export_size")
-        column.prop(settings, "export_padding")
-        column.prop(settings, "export_gltf_occlusion")
+        for name in ("export_size", "export_padding", "export_gltf_occlusion"):
+            column.prop(settings, name)
         column.operator("object.seamless_ao_resample", icon="UV")
         column.separator()
         column.prop(settings, "export_domain")

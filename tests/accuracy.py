@@ -9,12 +9,16 @@ from seamless_ao.core.settings import BakeSettings
 
 
 def surface_samples(mesh, count, seed=0):
-    """Area-weighted random surface points of a TriangleMesh.
+    """Area-weighted random surface points of a TriangleMesh, on faces that can be seen.
+
+    Faces lying on another, opposite-facing surface (a block's bottom on a
+    floor) are left out: they are never visible, and their AO depends only
+    on how a renderer treats exactly coincident surfaces.
 
     Returns triangle (k,), bary (k, 3), normals (k, 3) (interpolated shading normals, object space).
     """
     rng = np.random.default_rng(seed)
-    weight = np.where(mesh.degenerate, 0.0, mesh.triangle_area)
+    weight = np.where(mesh.degenerate | hidden_triangles(mesh), 0.0, mesh.triangle_area)
     triangle = rng.choice(len(weight), size=count, p=weight / weight.sum())
     r1, r2 = rng.random(count), rng.random(count)
     s = np.sqrt(r1)
@@ -22,6 +26,23 @@ def surface_samples(mesh, count, seed=0):
     normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     return triangle, bary, normals
+
+
+def hidden_triangles(mesh, tolerance=1e-6):
+    """Triangles whose centre lies on another triangle facing the opposite way."""
+    from mathutils import Vector
+    from mathutils.bvhtree import BVHTree
+
+    tree = BVHTree.FromPolygons(mesh.positions.tolist(), mesh.triangles.tolist(), all_triangles=True)
+    centres = mesh.positions[mesh.triangles].mean(axis=1)
+    hidden = np.zeros(len(mesh.triangles), dtype=bool)
+    radius = tolerance * mesh.scale
+    for index, (centre, normal) in enumerate(zip(centres.tolist(), mesh.triangle_normal.tolist())):
+        for _, other_normal, other, _ in tree.find_nearest_range(Vector(centre), radius):
+            if other != index and other_normal.dot(Vector(normal)) < -0.99:
+                hidden[index] = True
+                break
+    return hidden
 
 
 def reference_ao(ob, mesh, triangle, bary, normals, rays=2048, settings=None, batch=256):

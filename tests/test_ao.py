@@ -195,3 +195,4 @@ def test_cone_directions_stay_in_the_cone():
         d = cone_directions(samples, cone)
         assert np.allclose(np.linalg.norm(d, axis=-1), 1.0)
         assert (d[..., 2] >= np.cos(np.radians(cone)) - 1e-12).all()
+

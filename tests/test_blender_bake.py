@@ -188,3 +188,47 @@ def test_cli_bakes_a_saved_file_and_rejects_a_bad_name(tmp_path, fresh_scene):
     assert bad.returncode == 1
     lines = [l for l in bad.stderr.splitlines() if l.startswith("seamless_ao:")]
     assert lines == ["seamless_ao: error: no object named 'Nope' (mesh objects in this file: Suzanne)"], bad.stderr
+
+
+@pytest.mark.parametrize("kind", ["PNG", "EXR"])
+def test_image_saved_next_to_the_blend(monkey, tmp_path, kind):
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "scene.blend"))
+    report = seamless_ao.bake([monkey], save_image=kind, **FAST)
+    path = tmp_path / "{}.{}".format(report.image, kind.lower())
+    assert path.is_file()
+    loaded = bpy.data.images.load(str(path))
+    loaded.colorspace_settings.name = "Non-Color"          # data, not colour: read it back unchanged
+    saved = image_array(loaded)
+    baked = image_array(bpy.data.images[report.image])
+    tolerance = 1.0 / 65535 + 1e-6 if kind == "PNG" else 1e-6
+    assert np.abs(saved - baked).max() <= tolerance
+    if kind == "PNG":
+        assert open(path, "rb").read(26)[24] == 16          # bit depth in the IHDR chunk
+
+
+def test_saving_needs_a_saved_blend(monkey):
+    from seamless_ao.core.errors import SeamlessAOError
+    with pytest.raises(SeamlessAOError, match="Save the .blend file first"):
+        seamless_ao.bake([monkey], save_image="PNG", **FAST)
+
+
+def test_scene_occluders_and_ground_plane_darken(addon, fresh_scene):
+    import bmesh
+    floor_mesh = bpy.data.meshes.new("Floor")
+    bm = bmesh.new()
+    bmesh.ops.create_grid(bm, x_segments=4, y_segments=4, size=2.0)
+    bm.to_mesh(floor_mesh)
+    bm.free()
+    floor = bpy.data.objects.new("Floor", floor_mesh)
+    bpy.context.scene.collection.objects.link(floor)
+    ball = suzanne(0, name="Ball")
+    ball.location = (0.0, 0.0, 0.6)
+    bpy.context.view_layer.update()
+    means = {}
+    for occluders in (False, True):
+        report = seamless_ao.bake([floor], use_scene_occluders=occluders, **FAST)
+        means[occluders] = image_array(bpy.data.images[report.image]).mean()
+    assert means[True] < means[False] - 0.005, means
+    plain = image_array(bpy.data.images[seamless_ao.bake([ball], **FAST).image]).mean()
+    grounded = image_array(bpy.data.images[seamless_ao.bake([ball], use_ground_plane=True, **FAST).image]).mean()
+    assert grounded < plain - 0.005, (plain, grounded)
