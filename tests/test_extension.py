@@ -75,6 +75,8 @@ def test_zip_contains_the_package_and_not_the_tests(built_zip):
     names = zipfile.ZipFile(built_zip).namelist()
     assert "blender_manifest.toml" in names
     assert "__init__.py" in names
+    assert "LICENSE" in names
+    assert not any(n.endswith(".downloaded") for n in names)
     assert any(n.startswith("core/") for n in names)
     assert not any(n.startswith(("tests/", ".git", ".venv", "out/")) for n in names), names
     python = "cp{}{}".format(*sys.version_info[:2])

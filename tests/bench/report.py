@@ -303,6 +303,7 @@ def seam_renders(ob, out, image):
 
 def plot(curves, path):
     import matplotlib
+    import matplotlib.ticker
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     names = sorted({name for name, _ in curves})
@@ -312,13 +313,20 @@ def plot(curves, path):
             points = sorted(curves.get((name, method), []))
             if not points:
                 continue
-            ax.plot([p[0] for p in points], [p[1] for p in points], style, label=method)
-            for seconds, rmse, label in points:
-                ax.annotate(label, (seconds, rmse), fontsize=6, xytext=(2, 2), textcoords="offset points")
+            ys = [max(p[1], 1e-4) for p in points]
+            ax.plot([p[0] for p in points], ys, style, label=method)
+            for (seconds, _, label), y in zip(points, ys):
+                ax.annotate(label, (seconds, y), fontsize=6, xytext=(2, 2), textcoords="offset points")
         ax.set_xscale("log")
-        ax.set_title(name)
+        ax.set_yscale("log")
+        for axis in (ax.xaxis, ax.yaxis):
+            # Label 1, 2 and 5 of every decade: most panels span less than one.
+            axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+            axis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
+            axis.set_minor_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+        ax.set_title(name if name != "cube" else "cube (AO = 1 everywhere: both exact)")
         ax.set_xlabel("time (s, log)")
-        ax.set_ylabel("RMSE vs reference")
+        ax.set_ylabel("RMSE vs reference (log)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
     for ax in axes.ravel()[len(names):]:
@@ -331,8 +339,13 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--output-dir", default="out/bench")
     parser.add_argument("--meshes", nargs="+", default=list(MESHES))
+    parser.add_argument("--plot-only", action="store_true", help="redraw the plot from curves.json")
     args = parser.parse_args()
     out = pathlib.Path(args.output_dir).resolve()
+    if args.plot_only:
+        curves = {tuple(k.split("|")): v for k, v in json.loads((out / "curves.json").read_text()).items()}
+        plot(curves, out / "speed_error.png")
+        return
     cache = out / "cache"
     cache.mkdir(parents=True, exist_ok=True)
     rows, curves = [], {}
