@@ -50,8 +50,8 @@ def main():
           .format(len(triangles), args.image_size, args.rays, seconds,
                   ", ".join("{} {:.1f} s".format(k, v) for k, v in report.timings.items()), process_peak_mb(),
                   finite, values.min(), values.max()))
+    return 0 if finite and 0.0 <= values.min() and values.max() <= 1.0 else 1
 
 
 if __name__ == "__main__":
-    main()
-    conftest.hard_exit(0)
+    conftest.hard_exit(main())

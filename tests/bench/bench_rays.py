@@ -12,6 +12,7 @@ samples and 4.2 s at 64 samples on this kind of machine, see report.md for
 both measured side by side with their errors).
 """
 
+import sys
 import time
 
 import numpy as np
@@ -61,12 +62,10 @@ def main():
         rows.append([name, "{:.2f}".format(raw / 1e6), "{:.2f}".format(full / 1e6)])
         if hasattr(caster, "free"):
             caster.free()
-        print(markdown_table(["strategy", "M rays/s (casting only)", "M rays/s (whole AO path)"], rows[-1:]),
-              flush=True)
+        print("measured:", name, file=sys.stderr, flush=True)
     start = time.perf_counter()
     report = conftest.seamless_ao.bake([ob], image_size=1024, rays=64)
     seconds = time.perf_counter() - start
-    print()
     print(markdown_table(["strategy", "M rays/s (casting only)", "M rays/s (whole AO path)"], rows))
     print()
     print("1024² bake of subdivided Suzanne ({:,} triangles) at 64 rays: {:.1f} s ({}; {:,} texels, {:,.0f} rays "
