@@ -1,6 +1,5 @@
 """Issue 5: the Blender side, in background mode (no window): operator, data written, shader, CLI."""
 
-import os
 import subprocess
 import sys
 
@@ -8,7 +7,8 @@ import bpy
 import numpy as np
 import pytest
 
-from blender_checks import image_array, material_snapshot, mesh_snapshot, shown_ao, surface_under_pixels
+from blender_checks import (image_array, material_snapshot, mesh_snapshot, render_emission, shown_ao,
+                            surface_under_pixels)
 from blender_scenes import suzanne
 from conftest import ROOT, seamless_ao
 from seamless_ao.operators.mesh_data import read_triangles
@@ -124,35 +124,6 @@ def test_node_group_is_versioned_and_rebuilt_in_place(monkey):
     assert len(group.nodes) > 10 and group["seamless_ao_version"] >= 1
 
 
-def render_emission(ob, size=48):
-    """Cycles render of ``ob`` with its material switched to AO-only emission; (h, w) linear values."""
-    import tempfile
-    scene = bpy.context.scene
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = 64
-    scene.cycles.use_denoising = False
-    scene.cycles.pixel_filter_type = "BOX"            # each pixel averages itself, nothing else
-    scene.cycles.filter_width = 1.0
-    scene.render.resolution_x = scene.render.resolution_y = size
-    scene.render.resolution_percentage = 100
-    scene.view_settings.view_transform = "Standard"
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    scene.collection.objects.link(camera)
-    camera.location = (0.0, -4.0, 0.3)
-    camera.rotation_euler = (np.radians(88.0), 0.0, 0.0)
-    scene.camera = camera
-    scene.world = bpy.data.worlds.new("Black")
-    scene.world.color = (0, 0, 0)
-    seamless_ao.set_preview([ob], True)
-    path = os.path.join(tempfile.mkdtemp(), "render.exr")
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.filepath = path
-    bpy.ops.render.render(write_still=True)
-    image = bpy.data.images.load(path)
-    return camera, image_array(image)
-
-
 def test_cycles_render_matches_numpy_blend(monkey):
     monkey.rotation_euler = (0.3, 0.2, 0.5)           # object space differs from world space
     bpy.context.view_layer.update()
@@ -169,6 +140,21 @@ def test_cycles_render_matches_numpy_blend(monkey):
     assert len(error) > 300
     assert np.median(error) < 0.01, np.median(error)
     assert np.mean(error < 0.03) > 0.9, np.mean(error < 0.03)      # 64 samples vs a 3x3 grid per pixel
+
+
+def test_eevee_render_matches_numpy_blend(tmp_path):
+    """The node group works in EEVEE too (its own process: EEVEE needs OpenGL, here Mesa's software one)."""
+    out = tmp_path / "eevee.npz"
+    run = subprocess.run([sys.executable, str(ROOT / "tests" / "helpers" / "eevee_render.py"), str(out)],
+                         capture_output=True, text=True, timeout=1200)
+    if run.returncode == 3 and "EEVEE unavailable" in run.stdout:
+        pytest.skip(run.stdout.strip().splitlines()[-1])
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    result = np.load(out)
+    error = np.abs(result["rendered"] - result["expected"])
+    assert len(error) > 1000
+    assert np.median(error) < 0.01, np.median(error)
+    assert np.mean(error < 0.03) > 0.9, np.mean(error < 0.03)
 
 
 def test_cli_bakes_a_saved_file_and_rejects_a_bad_name(tmp_path, fresh_scene):

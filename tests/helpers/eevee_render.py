@@ -1,0 +1,67 @@
+"""EEVEE render of a baked Suzanne's AO-only preview, next to what the blend says, for the tests.
+
+    python eevee_render.py OUT.npz
+
+Runs in its own process because EEVEE needs an OpenGL context, which a
+machine without a GPU may or may not provide (Mesa's software renderer
+does).  It first renders Blender's default scene with EEVEE: if that fails it prints
+``EEVEE unavailable: <reason>`` and exits with 3, and the test is skipped.
+Otherwise it prints ``EEVEE available``, bakes, renders, and writes OUT.npz
+with ``rendered`` (pixels), ``expected`` (the numpy blend at those pixels).
+"""
+
+import os
+import sys
+import tempfile
+
+os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="seamless_ao_eevee_"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+import conftest  # noqa: E402
+from blender_checks import eevee_engine, render_emission, shown_ao, surface_under_pixels  # noqa: E402
+from blender_scenes import suzanne  # noqa: E402
+
+SIZE = 96
+
+
+def eevee_renders():
+    """None if EEVEE renders Blender's default scene here (tiny), else why not."""
+    bpy.ops.wm.read_factory_settings()
+    scene = bpy.context.scene
+    scene.render.engine = eevee_engine()
+    scene.render.resolution_x = scene.render.resolution_y = 8
+    try:
+        bpy.ops.render.render()
+    except RuntimeError as error:
+        return str(error).strip() or "render failed"
+    return None
+
+
+def main(out):
+    problem = eevee_renders()
+    if problem:
+        print("EEVEE unavailable:", problem, flush=True)
+        return 3
+    print("EEVEE available", flush=True)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    conftest.seamless_ao.register()
+    monkey = suzanne(1)
+    monkey.rotation_euler = (0.3, 0.2, 0.5)          # object space differs from world space
+    bpy.context.view_layer.update()
+    conftest.seamless_ao.bake([monkey], rays=16, image_size=256)
+    camera, rendered = render_emission(monkey, size=SIZE, engine=eevee_engine())
+    from seamless_ao.operators.mesh_data import read_triangles
+    mesh, loops = read_triangles(monkey.data)
+    triangles, barys, pixels = surface_under_pixels(monkey, mesh, camera, SIZE)
+    samples = triangles.shape[1]
+    expected = shown_ao(monkey, bpy.data.images["Suzanne_AO"], loops, triangles.ravel(), barys.reshape(-1, 3),
+                        mesh.corner_normals).reshape(-1, samples).mean(axis=1)
+    np.savez(out, rendered=rendered[pixels[:, 0], pixels[:, 1]], expected=expected)
+    return 0
+
+
+if __name__ == "__main__":
+    conftest.hard_exit(main(sys.argv[1]))
