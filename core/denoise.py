@@ -63,32 +63,56 @@ def denoise(texels, atlas, mesh, values, computed, rays, radius=2, space_sigma=1
         value = grid(values[halo], 0.0, np.float32)
         valid = grid(np.ones(len(halo), dtype=bool), False, bool)
         chart = grid(chart_of_texel[halo], -1, np.int64)
-        point = grid(points.astype(np.float32), 0.0, np.float32)
-        normal = grid(normals.astype(np.float32), 0.0, np.float32)
+        # One plane per coordinate: sums over a trailing axis of 3 are slow in numpy.
+        point = [grid(points[:, k].astype(np.float32), 0.0, np.float32) for k in range(3)]
+        normal = [grid(normals[:, k].astype(np.float32), 0.0, np.float32) for k in range(3)]
         # noise of an AO estimate from ``rays`` rays (binomial), floored at one ray's worth
         variance = np.maximum(value * (1.0 - value), 1.0 / rays) / rays
 
+        # The weight of a pair of texels does not depend on which one is the
+        # centre, so each pair is weighed once and added to both ends.
+        weight_sum = np.zeros(shape, dtype=np.float32)
+        value_sum = np.zeros(shape, dtype=np.float32)
+        for dy, dx in _half_window(radius):
+            here, there = _pair_slices(shape, dy, dx)
+            usable = valid[here] & valid[there] & (chart[here] == chart[there])
+            distance2 = sum((plane[there] - plane[here]) ** 2 for plane in point)
+            facing = np.clip(sum(plane[there] * plane[here] for plane in normal), 0.0, 1.0)
+            facing = _power(facing, normal_power)
+            spread = range_sigmas**2 * (variance[here] + variance[there])
+            weight = np.exp(-0.5 * distance2 / sigma_space**2 - 0.5 * (value[there] - value[here]) ** 2 / spread)
+            weight *= facing * usable
+            weight_sum[here] += weight
+            weight_sum[there] += weight
+            value_sum[here] += weight * value[there]
+            value_sum[there] += weight * value[here]
         inner = (slice(radius, radius + grid_rows), slice(radius, radius + width))
-        v0, p0, n0, c0, var0 = value[inner], point[inner], normal[inner], chart[inner], variance[inner]
-        total = np.ones_like(v0)
-        summed = v0.copy()
-        for dy in range(-radius, radius + 1):
-            for dx in range(-radius, radius + 1):
-                if not dx and not dy:
-                    continue
-                shifted = (slice(radius + dy, radius + dy + grid_rows), slice(radius + dx, radius + dx + width))
-                v1 = value[shifted]
-                usable = valid[shifted] & (chart[shifted] == c0)
-                distance2 = ((point[shifted] - p0) ** 2).sum(axis=-1)
-                facing = np.clip((normal[shifted] * n0).sum(axis=-1), 0.0, 1.0) ** normal_power
-                spread = range_sigmas**2 * (var0 + variance[shifted])
-                weight = np.exp(-0.5 * distance2 / sigma_space**2 - 0.5 * (v1 - v0) ** 2 / spread) * facing
-                weight = np.where(usable, weight, 0.0)
-                total += weight
-                summed += weight * v1
-        filtered = summed / total
+        filtered = (value[inner] + value_sum[inner]) / (1.0 + weight_sum[inner])
         own = computed & (rows >= band_start) & (rows < band_stop)
         own_index = np.flatnonzero(own)
         local = texels.index[own_index] - top * width
         out[own_index] = filtered[local // width, local % width]
     return out
+
+
+def _half_window(radius):
+    """Offsets (dy, dx) of one half of a (2r+1)² window: each unordered pair of texels once."""
+    return [(dy, dx) for dy in range(0, radius + 1) for dx in range(-radius, radius + 1) if dy > 0 or dx > 0]
+
+
+def _pair_slices(shape, dy, dx):
+    """Slices ``here`` and ``there`` of a (rows, cols) grid with ``there`` = ``here`` + (dy, dx), dy >= 0."""
+    rows, cols = shape[:2]
+    here = (slice(0, rows - dy), slice(max(0, -dx), cols - max(0, dx)))
+    there = (slice(dy, rows), slice(max(0, dx), cols - max(0, -dx)))
+    return here, there
+
+
+def _power(base, exponent):
+    """``base ** exponent``, by repeated squaring when the exponent is a power of two (the default 16)."""
+    steps = np.log2(exponent) if exponent >= 1 else -1.0
+    if steps == int(steps):
+        for _ in range(int(steps)):
+            base = base * base
+        return base
+    return base**exponent
