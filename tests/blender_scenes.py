@@ -79,9 +79,17 @@ def sphere_over_plane(name="Sphere Over Plane"):
     bmesh.ops.create_uvsphere(bm, u_segments=48, v_segments=24, radius=0.5,
                               matrix=Matrix.Translation((0, 0, 0.65)))
     bmesh.ops.create_grid(bm, x_segments=1, y_segments=1, size=1.5)
-    mesh = bpy.data.meshes.new(name)
-    bm.to_mesh(mesh)
+    # bmesh's face order varies from process to process (it hashes pointers):
+    # a canonical order (each face from its lowest vertex, faces sorted) makes
+    # the mesh, and the benchmark's cached reference for it, the same every run.
+    positions = [tuple(v.co) for v in bm.verts]
+    faces = []
+    for face in bm.faces:
+        ring = [v.index for v in face.verts]
+        first = ring.index(min(ring))
+        faces.append(ring[first:] + ring[:first])
     bm.free()
+    mesh = mesh_from_faces(name, positions, sorted(faces))
     for polygon in mesh.polygons:
         polygon.use_smooth = polygon.center.z > 0.01
     return add_object(name, mesh)

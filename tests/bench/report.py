@@ -46,6 +46,8 @@ SEAM_EDGES = 150
 SEAM_RAYS = 512
 SEAMLESS_RUNS = [(512, 8), (512, 16), (1024, 16), (1024, 32)]
 CYCLES_RUNS = [(512, 16), (512, 64), (1024, 64)]
+#: Without the denoiser, to show what it buys (issue 9: keep it only if the numbers say it helps).
+RAW_RUNS = [(512, 16), (1024, 16)]
 
 
 def spiral_ramp_object():
@@ -222,11 +224,15 @@ def run_mesh(name, cache, out, rows, curves):
         if kept is not None:
             bpy.data.images.remove(kept)
         kept = image
-    for image_size, rays in SEAMLESS_RUNS[:1] if trivial else SEAMLESS_RUNS:
-        report = PACKAGE.bake([ob], image_size=image_size, rays=rays)
+    # Undenoised first, so the last bake left on the object (for the seam renders) is the default one.
+    runs = [(size, rays, False) for size, rays in ([] if trivial else RAW_RUNS)]
+    runs += [(size, rays, True) for size, rays in (SEAMLESS_RUNS[:1] if trivial else SEAMLESS_RUNS)]
+    for image_size, rays, denoise in runs:
+        report = PACKAGE.bake([ob], image_size=image_size, rays=rays, denoise=denoise)
         image = bpy.data.images[report.image]
         t = report.timings
-        record("Seamless AO", "{}², {} rays".format(image_size, rays), report.seconds,
+        record("Seamless AO" if denoise else "Seamless AO, no denoise", "{}², {} rays".format(image_size, rays),
+               report.seconds,
                " + ".join("{} {:.2f}".format(k, v) for k, v in t.items()),
                shown_seamless(ob, image, loops, triangle, bary, normals),
                lambda t, b, image=image: shown_seamless(ob, image, loops, t, b, point_normals(mesh, t, b)),
@@ -309,12 +315,13 @@ def plot(curves, path):
     names = sorted({name for name, _ in curves})
     fig, axes = plt.subplots(2, (len(names) + 1) // 2, figsize=(4.2 * ((len(names) + 1) // 2), 7.5), squeeze=False)
     for ax, name in zip(axes.ravel(), names):
-        for method, style in (("Seamless AO", "o-"), ("Cycles", "s--")):
+        for method, style, colour in (("Seamless AO", "o-", "tab:blue"), ("Seamless AO, no denoise", "^:", "tab:cyan"),
+                                      ("Cycles", "s--", "tab:orange")):
             points = sorted(curves.get((name, method), []))
             if not points:
                 continue
             ys = [max(p[1], 1e-4) for p in points]
-            ax.plot([p[0] for p in points], ys, style, label=method)
+            ax.plot([p[0] for p in points], ys, style, color=colour, label=method)
             for (seconds, _, label), y in zip(points, ys):
                 ax.annotate(label, (seconds, y), fontsize=6, xytext=(2, 2), textcoords="offset points")
         ax.set_xscale("log")
