@@ -236,6 +236,31 @@ def occlusion_sums(points, normals, geometric, texel_ids, ray_indices, params, c
     return occlusion.sum(axis=1)
 
 
+def noise_bound(ao, rays):
+    """Expected error (one standard deviation, RMS over texels) of AO estimated from independent rays.
+
+    Each ray contributes a value in [0, 1], so for a texel whose AO is ``m``
+    the variance of one ray is at most m (1 - m); ``rays`` rays divide it by
+    ``rays``.  The estimate m̂ (1 - m̂) · n / (n - 1) is unbiased for m (1 - m)
+    with binary rays.  Stratified (Sobol') rays and the denoiser do better,
+    so for a bake this is an upper estimate of its noise.
+
+    Parameters
+    ----------
+    ao : (n,) float, AO estimates in [0, 1]
+    rays : int, rays per estimate
+
+    Returns
+    -------
+    float, in AO units (0 for no estimates)
+    """
+    ao = np.clip(np.asarray(ao, dtype=np.float64), 0.0, 1.0)
+    if not len(ao) or rays < 1:
+        return 0.0
+    correction = rays / (rays - 1.0) if rays > 1 else 1.0
+    return float(np.sqrt((ao * (1.0 - ao)).mean() * correction / rays))
+
+
 def pilot_agreement(sums, params):
     """Code per texel after the pilot rays: 0 = undecided, 1 = all open, 2 = all fully blocked."""
     count = params.pilot_rays

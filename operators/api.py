@@ -20,7 +20,7 @@ import zlib
 import bpy
 import numpy as np
 
-from ..core.ao import ORIGIN_OFFSET, AOParams, BVHCaster, ray_space
+from ..core.ao import ORIGIN_OFFSET, AOParams, BVHCaster, noise_bound, ray_space
 from ..core.denoise import denoise
 from ..core.errors import BakeCancelled, SeamlessAOError
 from ..core.pipeline import AOJob, build_layout, estimated_bytes, texel_image
@@ -83,11 +83,13 @@ class BakeReport:
     mesh_problems: list
     warnings: list
     caster: str
+    noise: float = 0.0
 
     def summary(self):
         text = "Baked {} in {:.1f} s: {}x{} image '{}', {:,} texels, {:,.0f} rays, {:.0%} of the image used".format(
             ", ".join(self.objects), self.seconds, self.width, self.height, self.image, self.texels, self.rays,
             self.utilisation)
+        text += ", noise before denoising at most {:.3f}".format(self.noise)
         if self.mesh_problems:
             text += "; handled: " + ", ".join(self.mesh_problems)
         return text
@@ -185,6 +187,7 @@ class BakeSession:
             ao_seconds = job.seconds
             self._free_casters()
             ao = job.ao
+            noise = noise_bound(ao[job.computed], self.settings.rays)
             if self.settings.denoise:
                 yield 0.95, "Denoising"
                 start = time.perf_counter()
@@ -200,7 +203,7 @@ class BakeSession:
                 utilisation=layout.atlas.utilisation, density=layout.atlas.density, charts=layout.charts.count,
                 seconds=time.perf_counter() - self.started, timings=timings,
                 mesh_problems=layout.topology.report.problems(), warnings=warnings,
-                caster=parts[0][1].name)
+                caster=parts[0][1].name, noise=noise)
             store_stats(self.scene, self.report)
             yield 1.0, "Done"
         finally:
@@ -585,6 +588,7 @@ def store_stats(scene, report):
     props.last_bake_texels = report.texels
     props.last_bake_rays = float(report.rays)
     props.last_bake_utilisation = report.utilisation
+    props.last_bake_noise = report.noise
 
 
 # -- public functions -------------------------------------------------------------------

@@ -60,6 +60,9 @@ def _stats_annotations():
         "last_bake_rays": FloatProperty(name="Rays", description="Rays the last bake cast", default=0.0),
         "last_bake_utilisation": FloatProperty(
             name="Atlas Use", description="Fraction of the image covered by charts", default=0.0),
+        "last_bake_noise": FloatProperty(
+            name="Noise", description="Expected noise of the last bake's AO before denoising (one standard "
+            "deviation, for independent rays; stratified rays and the denoiser do better)", default=0.0),
         "export_uv_map": StringProperty(
             name="UV Map", description="UV map to resample the AO onto (empty: the render-active one)", default=""),
         "export_size": IntProperty(name="Size", description="Width and height of the resampled image",

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from conftest import seamless_ao  # noqa: F401
-from seamless_ao.core.ao import AOParams, BVHCaster, shade
+from seamless_ao.core.ao import AOParams, BVHCaster, noise_bound, shade
 from seamless_ao.core.sampling import cone_directions, random_samples, sobol_2d, texel_samples
 
 BIG = 1000.0
@@ -196,3 +196,15 @@ def test_cone_directions_stay_in_the_cone():
         assert np.allclose(np.linalg.norm(d, axis=-1), 1.0)
         assert (d[..., 2] >= np.cos(np.radians(cone)) - 1e-12).all()
 
+
+
+def test_noise_bound_matches_independent_rays():
+    """For independent binary rays the bound is the actual RMS error, whatever the ray count."""
+    rng = np.random.default_rng(4)
+    truth = rng.random(40000)
+    for rays in (4, 16, 64):
+        estimate = rng.binomial(rays, truth) / rays
+        actual = np.sqrt(np.mean((estimate - truth) ** 2))
+        assert noise_bound(estimate, rays) == pytest.approx(actual, rel=0.03)
+    assert noise_bound(np.ones(10), 16) == 0.0 and noise_bound(np.zeros(0), 16) == 0.0
+    assert noise_bound(np.full(10, 0.5), 1) == pytest.approx(0.5)

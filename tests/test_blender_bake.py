@@ -58,6 +58,16 @@ def test_operator_properties_override_scene_settings(monkey):
     assert bpy.context.scene.seamless_ao.image_size == 512
 
 
+def test_report_estimates_the_noise(monkey):
+    """The panel's noise figure: finite, and halved by four times the rays (1/sqrt(rays))."""
+    few = seamless_ao.bake([monkey], rays=8, image_size=256)
+    many = seamless_ao.bake([monkey], rays=32, image_size=256)
+    assert 0.0 < many.noise < few.noise <= 0.5
+    assert 1.6 < few.noise / many.noise < 2.4, (few.noise, many.noise)
+    assert bpy.context.scene.seamless_ao.last_bake_noise == pytest.approx(many.noise, rel=1e-6)
+    assert "noise before denoising at most" in many.summary()
+
+
 def test_rebake_updates_the_same_nodes_and_clear_restores_everything(monkey):
     material = bpy.data.materials.new("Skin")
     enable_nodes(material)
