@@ -16,6 +16,7 @@ import numpy as np
 
 from .clustering import project
 from .errors import SeamlessAOError
+from .mesh import cross2d
 
 #: Tolerated mismatch between xatlas' output and its fitted affine map, in texels.
 AFFINE_TOLERANCE = 1e-2
@@ -97,11 +98,7 @@ def chart_plane_area(mesh, charts):
     """Total area of all charts in their planes (object units squared)."""
     member_triangle, member_chart, _ = chart_members(mesh, charts)
     uv, _ = project(mesh.positions[mesh.triangles[member_triangle]], charts.chart_axis[member_chart][:, None])
-    return float(0.5 * np.abs(_cross2(uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0])).sum())
-
-
-def _cross2(a, b):
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return float(0.5 * np.abs(cross2d(uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0])).sum())
 
 
 def estimate_density(area, image_size, utilisation=0.55):
@@ -225,7 +222,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     # Area-weighted: xatlas enlarges charts thinner than a texel, which says
     # nothing about the density of the rest.
     texel_area = np.abs(np.linalg.det(transforms[transform_of_member, :, :2]))
-    local_area = 0.5 * np.abs(_cross2(local_uv[:, 1] - local_uv[:, 0], local_uv[:, 2] - local_uv[:, 0]))
+    local_area = 0.5 * np.abs(cross2d(local_uv[:, 1] - local_uv[:, 0], local_uv[:, 2] - local_uv[:, 0]))
     packed_density = float(np.sqrt((texel_area * local_area).sum() / max(local_area.sum(), 1e-300)))
     return Atlas(
         width=width, height=height, density=packed_density,

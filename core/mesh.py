@@ -12,6 +12,11 @@ import numpy as np
 from .errors import SeamlessAOError
 from .graph import connected_components, group_starts
 
+
+def cross2d(a, b):
+    """z component of the cross product of 2D vectors: ``a``, ``b`` (..., 2) -> (...,)."""
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
 #: Triangles with less area than this times the squared mesh size are degenerate.
 DEGENERATE_AREA = 1.0e-20
 #: Vertices closer than this times the mesh size are welded for adjacency.

@@ -10,6 +10,7 @@ never O(n²).
 import numpy as np
 
 from .graph import pairs_within_groups
+from .mesh import cross2d
 
 
 def candidate_pairs(uv, group, margin=0.0):
@@ -105,10 +106,10 @@ def _barycentric(points, tri):
     """2D barycentric coordinates (k, 3) of ``points`` (k, 2) in ``tri`` (k, 3, 2)."""
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     v0, v1, v2 = b - a, c - a, points - a
-    den = v0[:, 0] * v1[:, 1] - v1[:, 0] * v0[:, 1]
+    den = cross2d(v0, v1)
     den = np.where(np.abs(den) > 0, den, np.inf)
-    w1 = (v2[:, 0] * v1[:, 1] - v1[:, 0] * v2[:, 1]) / den
-    w2 = (v0[:, 0] * v2[:, 1] - v2[:, 0] * v0[:, 1]) / den
+    w1 = cross2d(v2, v1) / den
+    w2 = cross2d(v0, v2) / den
     return np.stack([1.0 - w1 - w2, w1, w2], axis=1)
 
 
@@ -146,13 +147,8 @@ def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
         for j in range(3):
             q0, q1 = uv_b[:, j], uv_b[:, (j + 1) % 3]
             dq0, dq1 = depth_b[:, j], depth_b[:, (j + 1) % 3]
-            d2 = q1 - q0
-            den = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-            r = q0 - p0
-            safe = np.where(np.abs(den) > 0, den, np.inf)
-            t = (r[:, 0] * d2[:, 1] - r[:, 1] * d2[:, 0]) / safe
-            u = (r[:, 0] * d1[:, 1] - r[:, 1] * d1[:, 0]) / safe
-            cross = (np.abs(den) > 0) & (t > eps) & (t < 1 - eps) & (u > eps) & (u < 1 - eps)
+            t, u, meet = _line_crossing(q0 - p0, d1, q1 - q0)
+            cross = meet & (t > eps) & (t < 1 - eps) & (u > eps) & (u < 1 - eps)
             diff = np.abs(dp0 + t * (dp1 - dp0) - (dq0 + u * (dq1 - dq0)))
             gap = np.where(cross, np.maximum(gap, diff), gap)
     return gap
@@ -204,6 +200,17 @@ def overlapping_triangles(uv, depth, group, welded_triangles, triangle_face, dep
     return pairs[gap > depth_tolerance]
 
 
+def _line_crossing(r, d1, d2):
+    """Where the lines ``p0 + t d1`` and ``q0 + u d2`` meet, with ``r = q0 - p0`` (all (k, 2)).
+
+    Returns ``t``, ``u`` (k,) and whether the lines meet at one point (not parallel).
+    """
+    den = cross2d(d1, d2)
+    meet = np.abs(den) > 0
+    safe = np.where(meet, den, np.inf)
+    return cross2d(r, d2) / safe, cross2d(r, d1) / safe, meet
+
+
 def segment_distance(p0, p1, q0, q1):
     """Closest points of 2D segments ``p0-p1`` and ``q0-q1``.
 
@@ -235,11 +242,8 @@ def segment_distance(p0, p1, q0, q1):
         fixed = float(k % 2)                     # the endpoint used: 0 for p0/q0, 1 for p1/q1
         s = np.where(better, param if on_first else fixed, s)
         t = np.where(better, fixed if on_first else param, t)
-    den = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-    safe = np.where(den != 0, den, np.inf)
-    cs = (r[:, 0] * d2[:, 1] - r[:, 1] * d2[:, 0]) / safe
-    ct = (r[:, 0] * d1[:, 1] - r[:, 1] * d1[:, 0]) / safe
-    cross = (den != 0) & (cs >= 0) & (cs <= 1) & (ct >= 0) & (ct <= 1)
+    cs, ct, meet = _line_crossing(r, d1, d2)
+    cross = meet & (cs >= 0) & (cs <= 1) & (ct >= 0) & (ct <= 1)
     distance = np.where(cross, 0.0, distance)
     s = np.where(cross, cs, s)
     t = np.where(cross, ct, t)

@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .mesh import cross2d
+
 COVERED, NEAR, PADDING = 0, 1, 2
 
 #: Rasterise at most this many candidate texels at once (bounds peak memory).
@@ -213,13 +215,13 @@ def triangle_score(triangle, point):
     triangle (bilinear filtering inside the triangle never reads this texel).
     """
     a, b, c = triangle[:, 0], triangle[:, 1], triangle[:, 2]
-    area2 = _cross(b - a, c - a)
+    area2 = cross2d(b - a, c - a)
     orientation = np.where(area2 < 0, -1.0, 1.0)
     distances = []
     for p, q in ((b, c), (c, a), (a, b)):              # edge opposite a, b, c
         edge = q - p
         length = np.linalg.norm(edge, axis=1)
-        signed = orientation * _cross(edge, point - p) / np.where(length > 0, length, np.inf)
+        signed = orientation * cross2d(edge, point - p) / np.where(length > 0, length, np.inf)
         support = np.divide(np.abs(edge).sum(axis=1), length, out=np.full(len(length), np.inf), where=length > 0)
         distances.append((signed, support))
     inside = np.min([d for d, _ in distances], axis=0)
@@ -227,10 +229,6 @@ def triangle_score(triangle, point):
     low, high = triangle.min(axis=1), triangle.max(axis=1)
     box = np.all((point >= low - 1.0 - 1e-9) & (point <= high + 1.0 + 1e-9), axis=1)
     return np.where(reach & box, inside, -np.inf)
-
-
-def _cross(a, b):
-    return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
 
 
 _NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, 1), (1, -1), (-1, -1))
@@ -365,7 +363,7 @@ def closest_barycentric(triangle, x, y):
     v, w = safe(vb, total), safe(vc, total)
     inside_weights = (1.0 - v - w, v, w)
     take(np.ones(k, dtype=bool), inside_weights)                                   # inside
-    degenerate = np.abs(_cross(ab, ac)) <= 0
+    degenerate = np.abs(cross2d(ab, ac)) <= 0
     out[degenerate] = 1.0 / 3.0
     return out[:, 0], out[:, 1], out[:, 2]
 
