@@ -113,8 +113,8 @@ def eevee_engine():
     return "BLENDER_EEVEE_NEXT" if "BLENDER_EEVEE_NEXT" in engines else "BLENDER_EEVEE"
 
 
-def render_emission(ob, size=48, engine="CYCLES", camera=None):
-    """Render of ``ob`` with its materials switched to AO-only emission; (h, w) linear values and the camera.
+def render_emission(ob, size=48, engine="CYCLES"):
+    """Render of ``ob`` with its materials switched to AO-only emission; the camera and (h, w) linear values.
 
     Cycles: 64 samples, 1-pixel box filter, no denoising.  EEVEE: 64 samples
     and the narrowest pixel filter.  Black world, Standard view transform,
@@ -139,11 +139,10 @@ def render_emission(ob, size=48, engine="CYCLES", camera=None):
     scene.render.resolution_x = scene.render.resolution_y = size
     scene.render.resolution_percentage = 100
     scene.view_settings.view_transform = "Standard"
-    if camera is None:
-        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-        scene.collection.objects.link(camera)
-        camera.location = (0.0, -4.0, 0.3)
-        camera.rotation_euler = (np.radians(88.0), 0.0, 0.0)
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(camera)
+    camera.location = (0.0, -4.0, 0.3)
+    camera.rotation_euler = (np.radians(88.0), 0.0, 0.0)
     scene.camera = camera
     scene.world = bpy.data.worlds.new("Black")
     scene.world.color = (0, 0, 0)
@@ -154,3 +153,25 @@ def render_emission(ob, size=48, engine="CYCLES", camera=None):
     bpy.ops.render.render(write_still=True)
     image = bpy.data.images.load(path)
     return camera, image_array(image)
+
+
+def rendered_and_blended(ob, engine="CYCLES", size=48):
+    """What a render of a fresh bake shows, and what the blend says it should, at the same pixels.
+
+    ``ob`` is turned so its object space differs from world space, baked
+    (16 rays, 256²), and rendered AO-only by ``engine``.  Returns (k,) pixel
+    values and (k,) blends averaged over each pixel's 3x3 surface points.
+    """
+    import bpy
+    from conftest import seamless_ao
+    from seamless_ao.operators.mesh_data import read_triangles
+    ob.rotation_euler = (0.3, 0.2, 0.5)
+    bpy.context.view_layer.update()
+    report = seamless_ao.bake([ob], rays=16, image_size=256)
+    camera, rendered = render_emission(ob, size=size, engine=engine)
+    mesh, loops = read_triangles(ob.data)
+    triangles, barys, pixels = surface_under_pixels(ob, mesh, camera, size)
+    samples = triangles.shape[1]
+    expected = shown_ao(ob, bpy.data.images[report.image], loops, triangles.ravel(), barys.reshape(-1, 3),
+                        mesh.corner_normals).reshape(-1, samples).mean(axis=1)
+    return rendered[pixels[:, 0], pixels[:, 1]], expected

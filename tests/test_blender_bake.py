@@ -7,11 +7,9 @@ import bpy
 import numpy as np
 import pytest
 
-from blender_checks import (image_array, material_snapshot, mesh_snapshot, render_emission, shown_ao,
-                            surface_under_pixels)
+from blender_checks import image_array, material_snapshot, mesh_snapshot, rendered_and_blended
 from blender_scenes import suzanne
 from conftest import ROOT, seamless_ao
-from seamless_ao.operators.mesh_data import read_triangles
 from seamless_ao.shaders.material import BLEND, PREFIX, enable_nodes
 from seamless_ao.shaders.node_group import GROUP_NAME
 
@@ -134,22 +132,15 @@ def test_node_group_is_versioned_and_rebuilt_in_place(monkey):
     assert len(group.nodes) > 10 and group["seamless_ao_version"] >= 1
 
 
-def test_cycles_render_matches_numpy_blend(monkey):
-    monkey.rotation_euler = (0.3, 0.2, 0.5)           # object space differs from world space
-    bpy.context.view_layer.update()
-    seamless_ao.bake([monkey], rays=16, image_size=256)
-    camera, rendered = render_emission(monkey)
-    size = rendered.shape[0]
-    mesh, loops = read_triangles(monkey.data)
-    triangles, barys, pixels = surface_under_pixels(monkey, mesh, camera, size)
-    samples = triangles.shape[1]
-    expected = shown_ao(monkey, bpy.data.images["Suzanne_AO"], loops, triangles.ravel(), barys.reshape(-1, 3),
-                        mesh.corner_normals).reshape(-1, samples).mean(axis=1)
-    got = rendered[pixels[:, 0], pixels[:, 1]]
-    error = np.abs(got - expected)
-    assert len(error) > 300
+def assert_render_matches_blend(rendered, expected, min_pixels):
+    error = np.abs(rendered - expected)
+    assert len(error) > min_pixels
     assert np.median(error) < 0.01, np.median(error)
     assert np.mean(error < 0.03) > 0.9, np.mean(error < 0.03)      # 64 samples vs a 3x3 grid per pixel
+
+
+def test_cycles_render_matches_numpy_blend(monkey):
+    assert_render_matches_blend(*rendered_and_blended(monkey), min_pixels=300)
 
 
 def test_eevee_render_matches_numpy_blend(tmp_path):
@@ -161,10 +152,7 @@ def test_eevee_render_matches_numpy_blend(tmp_path):
         pytest.skip(run.stdout.strip().splitlines()[-1])
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
     result = np.load(out)
-    error = np.abs(result["rendered"] - result["expected"])
-    assert len(error) > 1000
-    assert np.median(error) < 0.01, np.median(error)
-    assert np.mean(error < 0.03) > 0.9, np.mean(error < 0.03)
+    assert_render_matches_blend(result["rendered"], result["expected"], min_pixels=1000)
 
 
 def test_cli_bakes_a_saved_file_and_rejects_a_bad_name(tmp_path, fresh_scene):

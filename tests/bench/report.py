@@ -326,11 +326,12 @@ def plot(curves, path):
                 ax.annotate(label, (seconds, y), fontsize=6, xytext=(2, 2), textcoords="offset points")
         ax.set_xscale("log")
         ax.set_yscale("log")
+        plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
         for axis in (ax.xaxis, ax.yaxis):
             # Label 1, 2 and 5 of every decade: most panels span less than one.
-            axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+            axis.set_major_formatter(plain)
             axis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
-            axis.set_minor_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+            axis.set_minor_formatter(plain)
         ax.set_title(name if name != "cube" else "cube (AO = 1 everywhere: both exact)")
         ax.set_xlabel("time (s, log)")
         ax.set_ylabel("RMSE vs reference (log)")

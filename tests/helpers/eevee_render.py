@@ -21,7 +21,7 @@ import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
 import conftest  # noqa: E402
-from blender_checks import eevee_engine, render_emission, shown_ao, surface_under_pixels  # noqa: E402
+from blender_checks import eevee_engine, rendered_and_blended  # noqa: E402
 from blender_scenes import suzanne  # noqa: E402
 
 SIZE = 96
@@ -48,18 +48,8 @@ def main(out):
     print("EEVEE available", flush=True)
     bpy.ops.wm.read_factory_settings(use_empty=True)
     conftest.seamless_ao.register()
-    monkey = suzanne(1)
-    monkey.rotation_euler = (0.3, 0.2, 0.5)          # object space differs from world space
-    bpy.context.view_layer.update()
-    conftest.seamless_ao.bake([monkey], rays=16, image_size=256)
-    camera, rendered = render_emission(monkey, size=SIZE, engine=eevee_engine())
-    from seamless_ao.operators.mesh_data import read_triangles
-    mesh, loops = read_triangles(monkey.data)
-    triangles, barys, pixels = surface_under_pixels(monkey, mesh, camera, SIZE)
-    samples = triangles.shape[1]
-    expected = shown_ao(monkey, bpy.data.images["Suzanne_AO"], loops, triangles.ravel(), barys.reshape(-1, 3),
-                        mesh.corner_normals).reshape(-1, samples).mean(axis=1)
-    np.savez(out, rendered=rendered[pixels[:, 0], pixels[:, 1]], expected=expected)
+    rendered, expected = rendered_and_blended(suzanne(1), engine=eevee_engine(), size=SIZE)
+    np.savez(out, rendered=rendered, expected=expected)
     return 0
 
 
