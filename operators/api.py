@@ -683,6 +683,14 @@ def set_preview(objects, enabled):
     return changed
 
 
+def poll_explained(operator_class, problem):
+    """What ``poll`` returns for ``problem`` (a sentence, or ``""``): False with the sentence as the tooltip."""
+    if problem:
+        operator_class.poll_message_set(problem)
+        return False
+    return True
+
+
 def baked_selection_problem(context, missing):
     """:func:`selection_problem`, or ``missing`` if none of the selected meshes has a bake."""
     problem = selection_problem(context)

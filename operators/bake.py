@@ -25,11 +25,7 @@ class OBJECT_OT_seamless_ao_bake(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        problem = api.selection_problem(context)
-        if problem:
-            cls.poll_message_set(problem)
-            return False
-        return True
+        return api.poll_explained(cls, api.selection_problem(context))
 
     def _session(self, context):
         settings = settings_from(context.scene.seamless_ao, overrides=self)

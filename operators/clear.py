@@ -14,11 +14,8 @@ class OBJECT_OT_seamless_ao_clear(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        problem = api.baked_selection_problem(context, "The selected meshes have no Seamless AO bake to clear")
-        if problem:
-            cls.poll_message_set(problem)
-            return False
-        return True
+        return api.poll_explained(
+            cls, api.baked_selection_problem(context, "The selected meshes have no Seamless AO bake to clear"))
 
     def execute(self, context):
         count = api.clear(api.target_objects(context))

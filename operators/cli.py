@@ -13,7 +13,7 @@ import sys
 import bpy
 
 from ..core.errors import SeamlessAOError
-from ..core.settings import BakeSettings, setting_fields
+from ..core.settings import setting_fields
 from . import api
 
 PROG = "blender --background FILE.blend --command seamless_ao"
@@ -91,13 +91,7 @@ def run(argv):
             given = {f.name: getattr(args, f.name) for f in setting_fields() if getattr(args, f.name) is not None}
             if "max_distance" in given and "auto_distance" not in given:
                 given["auto_distance"] = False          # an explicit distance means: use it
-            props = getattr(bpy.context.scene, "seamless_ao", None)
-            if props is not None:
-                from .properties import settings_from
-                settings = settings_from(props)
-            else:
-                settings = BakeSettings()
-            report = api.bake(objects, settings.replace(**given), progress=_print_progress)
+            report = api.bake(objects, progress=_print_progress, **given)    # the scene's settings, overridden
             print(report.summary())
             for warning in report.warnings:
                 print("warning: " + warning)

@@ -15,12 +15,8 @@ class NeedsBake:
 
     @classmethod
     def poll(cls, context):
-        problem = api.baked_selection_problem(
-            context, "Bake Seamless AO first: the selected meshes have no bake to export")
-        if problem:
-            cls.poll_message_set(problem)
-            return False
-        return True
+        missing = "Bake Seamless AO first: the selected meshes have no bake to export"
+        return api.poll_explained(cls, api.baked_selection_problem(context, missing))
 
 
 class OBJECT_OT_seamless_ao_resample(NeedsBake, bpy.types.Operator):
