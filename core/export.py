@@ -7,6 +7,7 @@ Both evaluate exactly what the ``Seamless AO`` node group shows (see
 import numpy as np
 
 from .blend import blended_ao
+from .mesh import cross2d
 from .raster import closest_barycentric, rasterise_triangles
 from .pipeline import pull_push
 
@@ -54,8 +55,7 @@ def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=
     """
     width, height = (size, size) if np.isscalar(size) else size
     target = np.asarray(target_uv, dtype=np.float64) * [width, height]
-    area = np.abs((target[:, 1, 0] - target[:, 0, 0]) * (target[:, 2, 1] - target[:, 0, 1])
-                  - (target[:, 2, 0] - target[:, 0, 0]) * (target[:, 1, 1] - target[:, 0, 1]))
+    area = np.abs(cross2d(target[:, 1] - target[:, 0], target[:, 2] - target[:, 0]))
     live = np.flatnonzero((area > 0) & (True if degenerate is None else ~degenerate))
     texels = rasterise_triangles(target, live, width, height, padding)
     x = (texels.index % width).astype(np.float64) + 0.5

@@ -328,7 +328,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     corners = np.repeat(live, 3), np.tile(np.arange(3), len(live))
     e1 = uv[corners[0], (corners[1] + 1) % 3] - uv[corners]
     e2 = uv[corners[0], (corners[1] + 2) % 3] - uv[corners]
-    angle = np.abs(np.arctan2(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0], (e1 * e2).sum(1)))
+    angle = np.abs(np.arctan2(cross2d(e1, e2), (e1 * e2).sum(1)))
     vertex = welded_triangles[corners]
     order = np.lexsort((vertex, group[corners[0]]))
     v_sorted, g_sorted = vertex[order], group[corners[0]][order]

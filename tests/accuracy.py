@@ -2,9 +2,9 @@
 
 import numpy as np
 
-from blender_checks import image_array, uv_layer_array
+from blender_checks import image_array, shown_seamless, uv_layer_array  # noqa: F401 (shown_seamless: for the tests)
 from seamless_ao.core.ao import shade
-from seamless_ao.core.blend import bilinear, blended_ao
+from seamless_ao.core.blend import bilinear
 from seamless_ao.core.settings import BakeSettings
 
 
@@ -66,15 +66,6 @@ def reference_ao(ob, mesh, triangle, bary, normals, rays=2048, settings=None, ba
     finally:
         if hasattr(caster, "free"):
             caster.free()
-
-
-def shown_seamless(ob, image, triangle_loops, triangle, bary, normals):
-    """What the Seamless AO node group shows at the points (UVs read back from the mesh)."""
-    mesh = ob.data
-    loops = triangle_loops[triangle]
-    layer_uv = np.stack([np.einsum("kc,kcd->kd", bary, uv_layer_array(mesh, name)[loops])
-                         for name in ("AO_X", "AO_Y", "AO_Z")], axis=1)
-    return blended_ao(image_array(image), layer_uv, normals)
 
 
 def shown_single_uv(ob, image, uv_name, triangle_loops, triangle, bary):

@@ -48,14 +48,19 @@ def material_snapshot(material):
     return (material.name, uses_nodes(material), tuple(nodes), tuple(links), tuple(values), tuple(keys))
 
 
-def shown_ao(ob, image, triangle_loops, triangle, bary, corner_normals):
-    """The blend the node group shows at surface points given as (loop triangle, barycentrics)."""
-    mesh = ob.data
+def shown_seamless(ob, image, triangle_loops, triangle, bary, normals):
+    """What the Seamless AO node group shows at surface points given as (loop triangle, barycentrics),
+    with their shading ``normals`` (k, 3); the UVs are read back from the mesh."""
     loops = triangle_loops[triangle]                                    # (k, 3)
-    layer_uv = np.stack([np.einsum("kc,kcd->kd", bary, uv_layer_array(mesh, name)[loops])
+    layer_uv = np.stack([np.einsum("kc,kcd->kd", bary, uv_layer_array(ob.data, name)[loops])
                          for name in ("AO_X", "AO_Y", "AO_Z")], axis=1)
-    normals = np.einsum("kc,kcd->kd", bary, corner_normals[triangle])
     return blended_ao(image_array(image), layer_uv, normals)
+
+
+def shown_ao(ob, image, triangle_loops, triangle, bary, corner_normals):
+    """:func:`shown_seamless` with the normals interpolated from ``corner_normals`` (t, 3, 3)."""
+    normals = np.einsum("kc,kcd->kd", bary, corner_normals[triangle])
+    return shown_seamless(ob, image, triangle_loops, triangle, bary, normals)
 
 
 def surface_under_pixels(ob, mesh, camera, size, subsamples=3):
