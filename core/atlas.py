@@ -10,17 +10,15 @@ from it in float64.  Texel coordinates: texel ``(x, y)`` covers
 bottom row (Blender's image and UV convention); UV = texel / size.
 """
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .clustering import project
+from .cover import chart_covers
 from .errors import SeamlessAOError
 from .mesh import cross2d
-
-#: Tolerated mismatch between xatlas' output and its fitted affine map, in texels.
-AFFINE_TOLERANCE = 1e-2
-
+from .packing import MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density
 
 @dataclass
 class Atlas:
@@ -45,10 +43,21 @@ class Atlas:
     dominant_member : (t,) int64
         Member of each triangle on its face's dominant axis (never ``-1``).
     member_placed : (m,) bool
-        False for members added for faces in no chart (zero area, or too thin
-        for xatlas to place): they borrow a neighbour's chart and own no texels.
+        False for members added for faces in no chart (zero area): they
+        borrow a neighbour's chart and own no texels.
     charts : Charts
-        The charts as packed (faces xatlas could not place are taken out).
+        The charts as packed.
+    chart_texel : (c,) int64
+        Flat texel index (``y * width + x``) of each chart stored as one
+        texel (smaller than :data:`POINT_TEXELS` at this density; all its
+        UVs are that texel's centre), ``-1`` for charts drawn in full.
+    chart_texel_member : (c,) int64
+        The member whose surface a one-texel chart's texel samples (its
+        largest triangle), ``-1`` for the others.
+    padding : int
+        Padding the charts were packed with (texels).
+    warnings : list of str
+        Sentences for the user (tiny pieces that had to share texels).
     """
 
     width: int
@@ -62,6 +71,10 @@ class Atlas:
     dominant_member: np.ndarray
     member_placed: np.ndarray = None
     charts: object = field(default=None, repr=False)
+    chart_texel: np.ndarray = None
+    chart_texel_member: np.ndarray = None
+    padding: int = 4
+    warnings: list = field(default_factory=list)
 
     @property
     def size(self):
@@ -107,7 +120,17 @@ def estimate_density(area, image_size, utilisation=0.55):
 
 
 def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None, max_size=16384):
-    """Pack all charts into one image.
+    """Pack all charts into one image; never fails for lack of room.
+
+    Large charts go to xatlas as their coarse covers (:mod:`.cover`), a few
+    triangles however many the chart has; small charts and charts under a
+    texel (stored as one texel, every UV at its centre) are shelf-packed into
+    shared boxes (:mod:`.packing` has the rules).  If even one texel per
+    chart does not fit, neighbouring tiny charts share texels and
+    :attr:`Atlas.warnings` says which image size would give each its own.
+    The padding between large charts shrinks (down to
+    :data:`.packing.MIN_PADDING`) where it would cost more than
+    :data:`.packing.PADDING_OVERHEAD` of extra atlas area.
 
     Parameters
     ----------
@@ -115,11 +138,11 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     topology : Topology
     charts : Charts
     padding : int
-        Texels between charts (xatlas padding; at least 2 so bilinear
-        filtering at a chart border never reads another chart).
+        Texels between large charts, at most (xatlas padding, on top of the
+        ring bilinear filtering reads, which is always kept free).
     image_size : int, optional
-        Square image size; the density is the largest that fits (found with
-        a few xatlas runs).
+        Square image size; the density is the largest that fits (within 3%),
+        found by a search with a packing run as the test.
     density : float, optional
         Texels per object unit; the image is as large as needed (width and
         height rounded up to a multiple of 4).  Exactly one of ``image_size``
@@ -131,8 +154,6 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     -------
     Atlas
     """
-    import xatlas  # bundled wheel; imported here so the rest of core works without it
-
     if (image_size is None) == (density is None):
         raise ValueError("give exactly one of image_size and density")
     member_triangle, member_chart, membership = chart_members(mesh, charts)
@@ -140,78 +161,38 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     live = ~mesh.degenerate[member_triangle]
     if not live.any():
         raise SeamlessAOError("The mesh has no face with area; there is nothing to pack")
-
-    live_members = np.flatnonzero(live)
-    chart_low, chart_high = _chart_boxes(local_uv[live_members], member_chart[live_members], charts.count)
-
-    def run(resolution, texels_per_unit):
-        faces = _xatlas_faces(local_uv, member_chart, topology.welded_triangles[member_triangle], live_members,
-                              chart_low, chart_high, texels_per_unit)
-        atlas = xatlas.Atlas()
-        # Texel units from each chart's own corner: xatlas works in float32 and
-        # drops faces it finds degenerate (an object 1e5 units from the origin
-        # would otherwise lose whole texels).
-        vertex_chart = np.zeros(len(faces.vertex_uv), dtype=np.int64)
-        vertex_chart[faces.indices.astype(np.int64).ravel()] = np.repeat(faces.chart, 3)
-        local = (faces.vertex_uv - chart_low[vertex_chart]) * texels_per_unit
-        atlas.add_uv_mesh(local.astype(np.float32), faces.indices, faces.materials)
-        options = xatlas.PackOptions()
-        options.padding = int(padding)
-        options.bilinear = True
-        options.rotate_charts = False
-        options.rotate_charts_to_axis = False
-        options.resolution = int(resolution)
-        options.texels_per_unit = 1.0
-        atlas.generate(xatlas.ChartOptions(), options)
-        return atlas, faces
+    area = _plane_area(local_uv[live])
+    expected = density if density is not None else estimate_density(area, image_size, 0.7)
+    covers = chart_covers(local_uv[live], member_chart[live], charts.count, expected)
+    if image_size is not None:
+        # the density at which the charts' boxes with the least padding fill the image
+        expected = density_filling(covers.extent, MIN_PADDING, image_size**2, POINT_TEXELS / max(covers.extent.max(), 1e-300),
+                                   image_size / np.sqrt(max(area, 1e-300)))
+    padding = effective_padding(covers.extent, expected, padding)
+    packer = Packer(covers, _chart_centres(mesh, member_triangle, member_chart, charts.count), padding)
 
     if image_size is not None:
-        area = chart_plane_area(mesh, charts)
-        guess = estimate_density(area, image_size, 0.7)
-        probe, _ = run(0, guess)                      # one atlas of whatever size this density needs
-        trial = guess * image_size / max(probe.width, probe.height) * 0.98
-        for _ in range(12):
-            packed, faces = run(image_size, trial)
-            if packed.atlas_count == 1:
-                break
-            trial *= 0.95
-        else:
-            raise SeamlessAOError(
-                "xatlas could not pack the charts into a {0}x{0} image; try a larger image size".format(image_size))
-        width = height = int(image_size)
+        placement = largest_density(packer, int(image_size), area)
     else:
         # xatlas has no memory limit of its own: refuse what cannot fit before asking it.
-        needed = max(np.sqrt(chart_plane_area(mesh, charts)) * density,
-                     float((chart_high - chart_low).max()) * density + 2 * padding)
+        needed = max(np.sqrt(area) * density, float(covers.extent.max()) * density + 2 * padding)
         if needed > max_size:
             raise SeamlessAOError(
                 "A texel density of {:g} needs an image of about {:.0f} texels or more across, larger than {}; "
                 "lower the density".format(density, needed, max_size))
-        packed, faces = run(0, density)
-        width, height = (int(-(-packed.width // 4) * 4), int(-(-packed.height // 4) * 4))
-        if max(width, height) > max_size:
+        placement = packer.place(density, 0, share=1)
+        if max(placement.width, placement.height) > max_size:
             raise SeamlessAOError(
                 "A texel density of {:g} needs a {}x{} image, larger than {}; lower the density".format(
-                    density, width, height, max_size))
-    if packed.atlas_count != 1:
-        raise SeamlessAOError("xatlas split the charts over {} images; expected one".format(packed.atlas_count))
+                    density, placement.width, placement.height, max_size))
 
-    _, out_indices, out_uv = packed[0]
-    packed_uv = out_uv.astype(np.float64)[out_indices.astype(np.int64)] * [packed.width, packed.height]
-    transforms, transform_of_member = _fit_chart_transforms(packed, faces, packed_uv, member_chart)
-    transform_of_member = _borrow_transforms(mesh, charts, member_triangle, member_chart, transform_of_member)
-    if (transform_of_member < 0).any():
-        raise SeamlessAOError("xatlas left {} chart(s) unplaced; please report this mesh".format(
-            len(np.unique(member_chart[transform_of_member < 0]))))
-    member_uv = _apply(transforms[transform_of_member], local_uv)
-
-    # Triangles of faces in no chart (zero area, or too thin for xatlas) get
-    # a member in a neighbour's chart.
+    transforms = placement.transforms()                                    # (c, 2, 3)
+    member_uv = _apply(transforms[member_chart], local_uv)
+    # Triangles of faces in no chart (zero area) get a member in a neighbour's chart.
     orphan_triangle, orphan_chart = _adopt_orphans(mesh, topology, charts)
     if len(orphan_triangle):
-        orphan_transform = transform_of_member[_first_member_of_chart(member_chart, orphan_chart)]
         orphan_local, _ = project(mesh.positions[mesh.triangles[orphan_triangle]], charts.chart_axis[orphan_chart][:, None])
-        member_uv = np.concatenate([member_uv, _apply(transforms[orphan_transform], orphan_local)])
+        member_uv = np.concatenate([member_uv, _apply(transforms[orphan_chart], orphan_local)])
         member_triangle = np.concatenate([member_triangle, orphan_triangle])
         member_chart = np.concatenate([member_chart, orphan_chart])
     dominant_member = np.full(len(mesh.triangles), -1, dtype=np.int64)
@@ -219,137 +200,52 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     live_face = face_dominant >= 0
     dominant_member[live_face] = membership[live_face, face_dominant[live_face] // 2]
     dominant_member[orphan_triangle] = len(member_triangle) - len(orphan_triangle) + np.arange(len(orphan_triangle))
-    # Area-weighted: xatlas enlarges charts thinner than a texel, which says
-    # nothing about the density of the rest.
-    texel_area = np.abs(np.linalg.det(transforms[transform_of_member, :, :2]))
-    local_area = 0.5 * np.abs(cross2d(local_uv[:, 1] - local_uv[:, 0], local_uv[:, 2] - local_uv[:, 0]))
-    packed_density = float(np.sqrt((texel_area * local_area).sum() / max(local_area.sum(), 1e-300)))
+
+    point_member = _largest_member(mesh, member_triangle, member_chart, charts.count,
+                                   len(member_triangle) - len(orphan_triangle))
+    point_member[placement.point_texel < 0] = -1
+    width, height = placement.width, placement.height
+    point_texels = len(np.unique(placement.point_texel[placement.point_texel >= 0]))
+    drawn_area = _plane_area(local_uv[live & (placement.point_texel[member_chart[:len(live)]] < 0)])
     return Atlas(
-        width=width, height=height, density=packed_density,
-        utilisation=float(packed.get_utilization(0)) * packed.width * packed.height / (width * height),
+        width=width, height=height, density=placement.density,
+        utilisation=float(min(1.0, (drawn_area * placement.density**2 + point_texels) / (width * height))),
         member_triangle=member_triangle, member_chart=member_chart, member_uv=member_uv,
         membership=membership, dominant_member=dominant_member,
         member_placed=np.arange(len(member_triangle)) < len(member_triangle) - len(orphan_triangle),
-        charts=charts)
+        charts=charts, chart_texel=placement.point_texel, chart_texel_member=point_member,
+        padding=padding, warnings=placement.warnings())
+
+
+def _plane_area(local_uv):
+    """Total area of 2D triangles (m, 3, 2)."""
+    return float(0.5 * np.abs(cross2d(local_uv[:, 1] - local_uv[:, 0], local_uv[:, 2] - local_uv[:, 0])).sum())
+
+
+def _chart_centres(mesh, member_triangle, member_chart, chart_count):
+    """(c, 3) mean of the triangle centres of each chart (object units)."""
+    centre = mesh.positions[mesh.triangles[member_triangle]].mean(axis=1)
+    count = np.maximum(np.bincount(member_chart, minlength=chart_count), 1)
+    return np.stack([np.bincount(member_chart, centre[:, k], chart_count) for k in range(3)], axis=1) / count[:, None]
+
+
+def _largest_member(mesh, member_triangle, member_chart, chart_count, placed_count):
+    """(c,) the largest live member of each chart (-1 for charts with none)."""
+    members = np.arange(placed_count)
+    area = np.where(mesh.degenerate[member_triangle[members]], -1.0, mesh.triangle_area[member_triangle[members]])
+    order = np.lexsort((-area, member_chart[members]))
+    chart_sorted = member_chart[members][order]
+    first = np.ones(len(order), dtype=bool)
+    first[1:] = chart_sorted[1:] != chart_sorted[:-1]
+    best = np.full(chart_count, -1, dtype=np.int64)
+    best[chart_sorted[first]] = members[order[first]]
+    best[area[np.maximum(best, 0)] < 0] = -1
+    return best
 
 
 def _apply(transform, points):
     """Affine ``transform`` (..., 2, 3) applied to ``points`` (..., k, 2)."""
     return np.einsum("...ij,...kj->...ki", transform[..., :2], points) + transform[..., None, :, 2]
-
-
-@dataclass
-class _XatlasFaces:
-    """What xatlas is given: real chart triangles, and box proxies for thin charts."""
-
-    vertex_uv: np.ndarray      # (v, 2) chart-plane coordinates
-    indices: np.ndarray        # (f, 3) uint32
-    materials: np.ndarray      # (f, 1) uint32: chart of each face
-    source_uv: np.ndarray      # (f, 3, 2) chart-plane corners of each face
-    member: np.ndarray         # (f,) member of each face, -1 for proxies
-    chart: np.ndarray          # (f,) chart of each face
-
-
-def _chart_boxes(local_uv, member_chart, chart_count):
-    """Bounding box (low, high), each (c, 2), of every chart in its plane."""
-    low = np.full((chart_count, 2), np.inf)
-    high = np.full((chart_count, 2), -np.inf)
-    np.minimum.at(low, member_chart, local_uv.min(axis=1))
-    np.maximum.at(high, member_chart, local_uv.max(axis=1))
-    return low, high
-
-
-def _xatlas_faces(local_uv, member_chart, member_welded, live_members, chart_low, chart_high, density):
-    """xatlas input at ``density``.
-
-    A chart thinner than two texels is given as its bounding box widened to
-    two texels (two triangles) instead of its triangles: xatlas reserves the
-    space and the placement of the box places the chart, where the real sliver
-    might be dropped as degenerate.  Other charts go in as their triangles,
-    one vertex per (chart, welded vertex) so each stays one xatlas chart.
-    """
-    thin = ((chart_high - chart_low) * density < 2.0).any(axis=1)
-    real = live_members[~thin[member_chart[live_members]]]
-    welded = member_welded[real]
-    key = member_chart[real, None] * np.int64(welded.max() + 1 if len(welded) else 1) + welded
-    vertex_key, vertex_index = np.unique(key.ravel(), return_inverse=True)
-    vertex_uv = np.zeros((len(vertex_key), 2))
-    vertex_uv[vertex_index.reshape(-1)] = local_uv[real].reshape(-1, 2)
-    indices = vertex_index.reshape(-1, 3)
-    thin_charts = np.flatnonzero(thin & np.isfinite(chart_low[:, 0]))
-    centre = 0.5 * (chart_low[thin_charts] + chart_high[thin_charts])
-    half = np.maximum(0.5 * (chart_high[thin_charts] - chart_low[thin_charts]), 1.0 / density)
-    corners = np.stack([centre - half, centre + [1, -1] * half, centre + half, centre + [-1, 1] * half], axis=1)
-    first = len(vertex_uv) + 4 * np.arange(len(thin_charts))
-    proxy_indices = np.concatenate([np.stack([first, first + 1, first + 2], 1), np.stack([first, first + 2, first + 3], 1)])
-    proxy_chart = np.concatenate([thin_charts, thin_charts])
-    all_uv = np.concatenate([vertex_uv, corners.reshape(-1, 2)])
-    all_indices = np.concatenate([indices, proxy_indices]).astype(np.int64)
-    chart = np.concatenate([member_chart[real], proxy_chart])
-    return _XatlasFaces(
-        vertex_uv=all_uv, indices=all_indices.astype(np.uint32), materials=chart[:, None].astype(np.uint32),
-        source_uv=all_uv[all_indices], member=np.concatenate([real, np.full(len(proxy_chart), -1)]), chart=chart)
-
-
-def _fit_chart_transforms(packed, faces, packed_uv, member_chart):
-    """Least-squares affine map, chart plane -> texels, of every xatlas chart.
-
-    Returns ``transforms`` (k, 2, 3) and the transform of each member (``-1``
-    for members no placed face speaks for: degenerate triangles).
-    """
-    transform_of_member = np.full(len(member_chart), -1, dtype=np.int64)
-    transforms = []
-    for index in range(packed.get_mesh_chart_count(0)):
-        chart_faces = np.asarray(packed.get_mesh_chart(0, index).faces, dtype=np.int64)
-        source = faces.source_uv[chart_faces].reshape(-1, 2)
-        target = packed_uv[chart_faces].reshape(-1, 2)
-        centre = source.mean(axis=0)
-        design = np.column_stack([source - centre, np.ones(len(source))])
-        solution, *_ = np.linalg.lstsq(design, target, rcond=None)
-        residual = np.abs(design @ solution - target).max()
-        if residual > AFFINE_TOLERANCE + 1e-6 * np.abs(target).max():
-            raise SeamlessAOError("xatlas reshaped a chart (off by {:.3g} texels); please report this mesh".format(
-                residual))
-        linear = solution[:2].T
-        if np.linalg.det(linear) <= 0:
-            raise SeamlessAOError("xatlas mirrored a chart; please report this mesh")
-        offset = solution[2] - linear @ centre
-        transforms.append(np.column_stack([linear, offset]))
-        members = faces.member[chart_faces]
-        transform_of_member[members[members >= 0]] = index
-        proxied = np.unique(faces.chart[chart_faces[members < 0]])
-        if len(proxied):
-            transform_of_member[np.isin(member_chart, proxied)] = index
-    return np.array(transforms, dtype=np.float64).reshape(-1, 2, 3), transform_of_member
-
-
-def _borrow_transforms(mesh, charts, member_triangle, member_chart, transform_of_member):
-    """Members xatlas did not place (degenerate or sub-texel triangles) take a placed one's transform.
-
-    First choice: a placed member of the same face and chart; else any placed
-    member of the same chart.  Members of charts xatlas placed nothing of keep
-    ``-1`` (they are too small to matter; see :func:`pack_charts`).
-    """
-    missing = transform_of_member < 0
-    if not missing.any():
-        return transform_of_member
-    transform_of_member = transform_of_member.copy()
-    placed = np.flatnonzero(~missing)
-    for key in (mesh.triangle_face[member_triangle] * np.int64(charts.count + 1) + member_chart, member_chart):
-        want = np.flatnonzero(transform_of_member < 0)
-        if not len(want) or not len(placed):
-            break
-        placed_key, first = np.unique(key[placed], return_index=True)
-        position = np.minimum(np.searchsorted(placed_key, key[want]), len(placed_key) - 1)
-        found = placed_key[position] == key[want]
-        transform_of_member[want[found]] = transform_of_member[placed[first[position[found]]]]
-    return transform_of_member
-
-
-def _first_member_of_chart(member_chart, charts_wanted):
-    """Index of the first member of each chart in ``charts_wanted``."""
-    order = np.argsort(member_chart, kind="stable")
-    return order[np.searchsorted(member_chart[order], charts_wanted)]
 
 
 def _adopt_orphans(mesh, topology, charts):

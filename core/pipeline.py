@@ -86,7 +86,7 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     timings["pack"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    texels = rasterise(atlas, mesh, padding=padding)
+    texels = rasterise(atlas, mesh, padding=atlas.padding)
     timings["rasterise"] = time.perf_counter() - start
     if not len(texels):
         raise SeamlessAOError("No texel landed on the mesh; raise the image size or texel density")

@@ -79,11 +79,18 @@ def rasterise(atlas, mesh, padding=4):
     -------
     Texels
     """
-    live = np.flatnonzero(atlas.member_placed & ~mesh.degenerate[atlas.member_triangle])
-    return rasterise_triangles(atlas.member_uv, live, atlas.width, atlas.height, padding)
+    one_texel = atlas.chart_texel >= 0
+    drawn = ~one_texel[atlas.member_chart]
+    live = np.flatnonzero(atlas.member_placed & ~mesh.degenerate[atlas.member_triangle] & drawn)
+    # charts stored as one texel: that texel samples the chart's largest triangle
+    fixed = one_texel & (atlas.chart_texel_member >= 0)
+    fixed_texel, first = np.unique(atlas.chart_texel[fixed], return_index=True)
+    fixed_member = atlas.chart_texel_member[fixed][first]
+    return rasterise_triangles(atlas.member_uv, live, atlas.width, atlas.height, padding,
+                               fixed_texel=fixed_texel, fixed_member=fixed_member)
 
 
-def rasterise_triangles(triangle_uv, live, width, height, padding=4):
+def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel=None, fixed_member=None):
     """Texels of an image covered by (or within one texel of) some 2D triangles.
 
     Scanline rasterisation: for every triangle and texel row, the covered
@@ -97,6 +104,9 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4):
     live : (k,) int, which triangles to draw
     width, height : int
     padding : int, rings grown around the near texels
+    fixed_texel, fixed_member : (p,) int, optional
+        Texels assigned beforehand (covered, sampling ``fixed_member``):
+        charts stored as one texel.
 
     Returns
     -------
@@ -123,6 +133,9 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4):
     # Covered texels: every centre inside a triangle (a centre exactly on a
     # shared edge goes to one of the two; both are the same surface there).
     kind = np.full(width * height, PADDING, dtype=np.int8)
+    if fixed_texel is not None and len(fixed_texel):
+        member_map[fixed_texel] = fixed_member
+        kind[fixed_texel] = COVERED
     for texel, owner in _expand_spans(row_y, c0, c1, row_member, width):
         member_map[texel] = live[owner]
         kind[texel] = COVERED

@@ -1,39 +1,68 @@
-"""Benchmark: chart building + packing + rasterising at 1024² and 4096² on a ~100k-triangle mesh.
+"""Benchmark: the fixed cost before the first ray (charts + pack + rasterise), per mesh and image size.
 
-    .venv/5.0/bin/python tests/bench/bench_atlas.py [--triangles 100000] [--sizes 1024 4096]
+    .venv/5.0/bin/python tests/bench/bench_atlas.py [--sizes 256 512 1024] [--spheres 250000 1000000]
 
-Prints time per stage, peak numpy memory and atlas utilisation.
-Target (issue 4): rasterising 4096² under 10 s.
+Meshes: the generated real-asset set (tests/real_assets.py: an interior of
+1,000+ pieces, a holed 100k-triangle scan, 10,000 chips, a 1:1000 beam) and
+bumpy spheres of the given triangle counts.  Prints time per stage, peak numpy
+memory, utilisation, texel density and xatlas runs.  Targets (issue 13):
+charts + pack + rasterise <= 1.0 s at 250k triangles and <= 4 s at 1M.
 """
 
 import argparse
+import pathlib
+import sys
 
 from common import Stopwatch, markdown_table
 
-from bench_clustering import bumpy_sphere
-from seamless_ao.core.mesh import TriangleMesh
-from seamless_ao.core.pipeline import build_layout
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
+import real_assets  # noqa: E402
+from bench_clustering import bumpy_sphere  # noqa: E402
+from seamless_ao.core import packing  # noqa: E402
+from seamless_ao.core.mesh import TriangleMesh  # noqa: E402
+from seamless_ao.core.pipeline import build_layout  # noqa: E402
+
+HEADERS = ["mesh", "triangles", "image", "charts s", "pack s", "rasterise s", "total s", "peak MB", "charts",
+           "utilisation", "density", "xatlas runs", "warnings"]
+
+
+def count_runs():
+    """Wrap Packer.place to count xatlas runs; returns the counter list."""
+    runs = [0]
+    place = packing.Packer.place
+
+    def counted(self, *args, **kwargs):
+        runs[0] += 1
+        return place(self, *args, **kwargs)
+
+    packing.Packer.place = counted
+    return runs
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--triangles", type=int, default=100_000)
-    parser.add_argument("--sizes", type=int, nargs="+", default=[1024, 4096])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[256, 512, 1024])
+    parser.add_argument("--spheres", type=int, nargs="*", default=[250_000, 1_000_000])
+    parser.add_argument("--assets", nargs="*", default=sorted(real_assets.ASSETS))
     args = parser.parse_args()
-    mesh = TriangleMesh.from_triangles(*bumpy_sphere(args.triangles), smooth=True)
-    headers = ["image", "triangles", "charts s", "pack s", "rasterise s", "total s", "peak MB", "utilisation",
-               "texels", "density"]
+    runs = count_runs()
+    cases = [(name, lambda name=name: real_assets.ASSETS[name](), args.sizes) for name in args.assets]
+    cases += [("bumpy sphere", lambda n=n: bumpy_sphere(n), [1024]) for n in args.spheres]
     rows = []
-    for size in args.sizes:
-        with Stopwatch() as watch:
-            layout = build_layout(mesh, image_size=size)
-        t = layout.timings
-        rows.append([f"{size}²", f"{len(mesh.triangles):,}", f"{t['charts']:.2f}", f"{t['pack']:.2f}",
-                     f"{t['rasterise']:.2f}", f"{watch.seconds:.2f}", f"{watch.peak_mb:.0f}",
-                     f"{layout.atlas.utilisation:.2f}", f"{len(layout.texels):,}", f"{layout.atlas.density:.0f}"])
-        print(markdown_table(headers, rows[-1:]), flush=True)
+    for name, make, sizes in cases:
+        mesh = TriangleMesh.from_triangles(*make(), smooth=True)
+        for size in sizes:
+            runs[0] = 0
+            with Stopwatch() as watch:
+                layout = build_layout(mesh, image_size=size)
+            t = layout.timings
+            rows.append([name, f"{len(mesh.triangles):,}", f"{size}²", f"{t['charts']:.2f}", f"{t['pack']:.2f}",
+                         f"{t['rasterise']:.2f}", f"{watch.seconds:.2f}", f"{watch.peak_mb:.0f}",
+                         f"{layout.charts.count:,}", f"{layout.atlas.utilisation:.2f}", f"{layout.atlas.density:.3g}",
+                         runs[0], len(layout.atlas.warnings)])
+            print(markdown_table(HEADERS, rows[-1:]), flush=True)
     print()
-    print(markdown_table(headers, rows))
+    print(markdown_table(HEADERS, rows))
 
 
 if __name__ == "__main__":
