@@ -195,7 +195,7 @@ class BakeSession:
                 layout.timings["denoise"] = time.perf_counter() - start
             yield 0.96, "Writing image, UV maps and materials"
             image = texel_image(layout.texels, ao, job.computed)
-            warnings = self._write(layout, image)
+            warnings = list(layout.atlas.warnings) + self._write(layout, image)
             timings = dict(layout.timings, rays=ao_seconds)
             self.report = BakeReport(
                 objects=[ob.name for ob in self.objects], image=self.image_name, width=layout.atlas.width,
