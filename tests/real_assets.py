@@ -16,7 +16,7 @@ Every generator is deterministic (fixed seeds).
 
 import numpy as np
 
-from meshes import box, grid_triangles
+from meshes import _orient_each, box, grid_triangles
 
 
 class _Builder:
@@ -75,7 +75,7 @@ def arch(span, rise, thickness, depth, steps, center=(0.0, 0.0, 0.0), along_y=Fa
     centre = positions[tris].mean(axis=1)
     angle = np.clip(np.arctan2(centre[:, 2] - (rise - radius), centre[:, 0]), 0.01, np.pi - 0.01)
     core = np.stack([radius * np.cos(angle), np.zeros_like(angle), rise - radius + radius * np.sin(angle)], -1)
-    tris = _orient_along(positions, tris, centre - core)
+    tris = _orient_each(positions, tris, centre - core)
     if along_y:
         positions = positions[:, [1, 0, 2]]
         tris = tris[:, ::-1]
@@ -194,31 +194,16 @@ def long_thin(length=1000.0, width=1.0, segments=1000):
     centre = positions[tris].mean(axis=1)
     outward = centre * [0.0, 1.0, 1.0] + np.where(np.abs(centre[:, :1]) >= 0.5 * length - 1e-9,
                                                   np.sign(centre[:, :1]) * [[1.0, 0.0, 0.0]], 0.0)
-    scene.add(positions, _orient_along(positions, tris, outward))
+    scene.add(positions, _orient_each(positions, tris, outward))
     scene.add(*box(size=(length, 0.2 * width, 0.5 * width), center=(0.0, 0.0, 0.75 * width), subdivisions=2))
     return scene.mesh()
 
 
-def _orient_along(positions, tris, outward):
-    """Wind every triangle so its normal points along ``outward`` (t, 3)."""
-    corners = positions[tris]
-    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    flip = (normal * outward).sum(axis=1) < 0
-    tris = tris.copy()
-    tris[flip] = tris[flip][:, ::-1]
-    return tris
-
-
 def _orient_outward_pieces(positions, tris, vertices_per_piece):
-    """As :func:`_orient_outward`, for many pieces of ``vertices_per_piece`` consecutive vertices."""
-    corners = positions[tris]
-    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    """Wind each triangle away from the centre of its piece (``vertices_per_piece`` consecutive vertices)."""
     piece_centre = positions.reshape(-1, vertices_per_piece, 3).mean(axis=1)
-    outward = corners.mean(axis=1) - piece_centre[tris[:, 0] // vertices_per_piece]
-    flip = (normal * outward).sum(axis=1) < 0
-    tris = tris.copy()
-    tris[flip] = tris[flip][:, ::-1]
-    return tris
+    outward = positions[tris].mean(axis=1) - piece_centre[tris[:, 0] // vertices_per_piece]
+    return _orient_each(positions, tris, outward)
 
 
 ASSETS = {
