@@ -19,7 +19,7 @@ splits the chart between two conflicting faces by breadth-first distance (a
 graph Voronoi split), until no chart has a conflict.
 """
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -226,9 +226,11 @@ def make_injective(mesh, topology, charts, margin=0.0):
     for axis in range(3):
         round_number = 0
         dirty = None                     # charts to check; None = all of this axis
+        # A split chart keeps its signed axis, so the projection is the same every round.
+        _, uv, depth, slope = triangle_chart_geometry(mesh, charts, axis)
         while True:
-            group, uv, depth, slope = triangle_chart_geometry(
-                mesh, replace(charts, chart_of_face=chart_of_face, chart_axis=chart_axis), axis)
+            group = chart_of_face[mesh.triangle_face, axis].copy()
+            group[mesh.degenerate] = -1
             if dirty is not None:
                 group[~np.isin(group, dirty)] = -1
             pairs = fold_conflicts(
@@ -257,6 +259,63 @@ def make_injective(mesh, topology, charts, margin=0.0):
     result = _renumber(Charts(chart_of_face, chart_axis, charts.dominant_axis))
     result.splits = charts.splits + result.count - charts.count
     return result
+
+
+def cut_long_charts(mesh, charts, max_length):
+    """Cut charts longer than ``max_length`` (object units, in their plane) into slabs across their length.
+
+    Charts are never rotated, so a chart longer than the image is wide sets
+    the density of the whole layout (a 1:1000 beam would get a texel across).
+    A long chart's faces are split by where their centre falls along the
+    chart's longer side, into ``ceil(length / max_length)`` slabs; each slab
+    is a chart of its own on the same signed axis.  A piece of an injective
+    chart is injective, so nothing else changes.
+
+    Returns
+    -------
+    Charts, renumbered if anything was cut.
+    """
+    corners = mesh.positions[mesh.triangles]                                  # (t, 3, 3)
+    chart_of_face = charts.chart_of_face.copy()
+    cut = False
+    for axis in range(3):
+        column = chart_of_face[:, axis]
+        triangle = np.flatnonzero(column[mesh.triangle_face] >= 0)
+        chart = column[mesh.triangle_face[triangle]]
+        uv, _ = project(corners[triangle], charts.chart_axis[chart][:, None])
+        low = np.full((len(charts.chart_axis), 2), np.inf)
+        high = np.full((len(charts.chart_axis), 2), -np.inf)
+        np.minimum.at(low, chart, uv.min(axis=1))
+        np.maximum.at(high, chart, uv.max(axis=1))
+        length = np.where(np.isfinite(low), high - low, 0.0)
+        pieces = np.ceil(length.max(axis=1) / max(max_length, 1e-300)).astype(np.int64)
+        long_chart = pieces > 1
+        if not long_chart[chart].any():
+            continue
+        cut = True
+        along = np.argmax(length, axis=1)                                     # (c,) 0 = u, 1 = v
+        keep = long_chart[chart]
+        triangle, chart, uv = triangle[keep], chart[keep], uv[keep]
+        centre = uv.mean(axis=1)[np.arange(len(chart)), along[chart]]
+        start, span = low[chart, along[chart]], length[chart, along[chart]]
+        slab = np.clip((centre - start) / span * pieces[chart], 0, pieces[chart] - 1).astype(np.int64)
+        face = mesh.triangle_face[triangle]
+        # a face's slab: that of its first triangle; slab 0 keeps the chart's id
+        face_slab = np.zeros(mesh.face_count, dtype=np.int64)
+        face_slab[face[::-1]] = slab[::-1]
+        faces = np.unique(face)
+        first_new = len(charts.chart_axis) + np.concatenate([[0], np.cumsum(pieces[long_chart] - 1)])[:-1]
+        base = np.zeros(len(charts.chart_axis), dtype=np.int64)
+        base[long_chart] = first_new
+        old = column[faces]
+        column[faces] = np.where(face_slab[faces] == 0, old, base[old] + face_slab[faces] - 1)
+        new_axis = np.repeat(charts.chart_axis[long_chart], pieces[long_chart] - 1)
+        charts = Charts(chart_of_face, np.concatenate([charts.chart_axis, new_axis]), charts.dominant_axis,
+                        charts.splits)
+        chart_of_face = charts.chart_of_face
+    if not cut:
+        return charts
+    return _renumber(Charts(chart_of_face, charts.chart_axis, charts.dominant_axis, charts.splits))
 
 
 def _relabel(on_axis, labels, chart_axis, edges, axis):

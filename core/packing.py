@@ -6,9 +6,11 @@ texels is one of three kinds:
 ``point``  under :data:`POINT_TEXELS` across (or no triangle with area): one
            texel, all its UVs at that texel's centre, where bilinear filtering
            reads that texel alone, so it needs no ring and no padding;
-``small``  at most :data:`SMALL_TEXELS` across: a slot of its whole-texel box
-           plus the one-texel ring bilinear filtering reads on each side,
-           shelf-packed (:mod:`.shelf`) with the points into square boxes;
+``small``  at most :data:`SMALL_TEXELS` across its narrow side: a slot of its
+           whole-texel box plus the one-texel ring bilinear filtering reads on
+           each side, shelf-packed (:mod:`.shelf`) with the points into square
+           boxes (rows of thin rectangles pack far tighter than xatlas packs
+           them: the 1:1000 beam's density went from 3.0 to 4.85 at 512²);
 ``large``  the rest: its coarse cover (:mod:`.cover`) goes to xatlas with the
            padding.
 
@@ -27,7 +29,7 @@ from .shelf import shelf_pack
 
 #: A chart less than this many texels across is stored as one texel.
 POINT_TEXELS = 1.0
-#: A chart at most this many texels across is shelf-packed into a shared box.
+#: A chart at most this many texels across its narrow side is shelf-packed into a shared box.
 SMALL_TEXELS = 6
 #: The density search stops when the largest density known to fit and the
 #: smallest known not to are this close (ratio).
@@ -44,8 +46,9 @@ AFFINE_TOLERANCE = 1e-2
 
 def chart_kinds(extent, has_live, density):
     """(c,) int8: 0 point, 1 small, 2 large (see the module doc), for ``extent`` (c, 2) at ``density``."""
-    across = (extent * density).max(axis=1)
-    kind = np.where(across <= SMALL_TEXELS, 1, 2).astype(np.int8)
+    texels = extent * density
+    across = texels.max(axis=1)
+    kind = np.where(texels.min(axis=1) <= SMALL_TEXELS, 1, 2).astype(np.int8)
     kind[(across < POINT_TEXELS) | ~has_live] = 0
     return kind
 

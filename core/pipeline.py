@@ -11,7 +11,7 @@ import numpy as np
 
 from .adjacency import face_adjacency
 from .atlas import chart_plane_area, estimate_density, pack_charts
-from .clustering import cluster_faces, make_injective
+from .clustering import cluster_faces, cut_long_charts, make_injective
 from .errors import SeamlessAOError
 from .mesh import TriangleMesh, require_faces
 from .raster import rasterise
@@ -20,6 +20,8 @@ from .raster import rasterise
 STEP_SECONDS = 0.3
 #: Distant parts of one chart must stay this many texels apart (bilinear reads 1).
 SEPARATION_TEXELS = 3.0
+#: With a texel density given, charts longer than this many texels are cut.
+LONGEST_CHART_TEXELS = 1024
 
 
 @dataclass
@@ -77,6 +79,9 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     # filtering at a chart's edge never mixes in AO from another surface.
     charts = [make_injective(mesh, topology, c, margin=SEPARATION_TEXELS / expected)
               for mesh, topology, c in zip(meshes, topologies, charts)]
+    # no chart longer than a quarter of the image at the expected density (charts are never rotated)
+    longest = (image_size / 4 if density is None else LONGEST_CHART_TEXELS) / expected
+    charts = [cut_long_charts(mesh, c, longest) for mesh, c in zip(meshes, charts)]
     mesh, offsets = TriangleMesh.concatenate(meshes) if len(meshes) > 1 else (meshes[0], np.array([0, len(meshes[0].triangles)]))
     topology = merge_topologies(meshes, topologies) if len(meshes) > 1 else topologies[0]
     charts = merge_charts(charts) if len(meshes) > 1 else charts[0]

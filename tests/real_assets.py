@@ -177,13 +177,10 @@ def chips(count=10_000, size=1e-3, extent=1.0, seed=0):
     return positions, _orient_outward_pieces(positions, tris, 4)
 
 
-def long_thin(length=1000.0, width=1.0, segments=1000):
-    """A closed beam ``length`` long with a square section of side ``width`` (aspect 1:1000), cut into
-    ``segments`` along its length, with a ledge on top casting shadows on it."""
-    scene = _Builder()
+def beam(length, width, height, segments, center=(0.0, 0.0, 0.0)):
+    """A closed box beam along X, cut into ``segments`` along its length (outward normals)."""
     x = np.linspace(-0.5, 0.5, segments + 1) * length
-    h = 0.5 * width
-    section = np.array([[-h, -h], [h, -h], [h, h], [-h, h]])                 # (y, z) counter-clockwise
+    section = np.array([[-width, -height], [width, -height], [width, height], [-width, height]]) * 0.5
     positions = np.concatenate([np.column_stack([np.full(4, xi), section]) for xi in x])
     i = np.arange(segments)[:, None] * 4
     quads = np.vstack([np.concatenate([i + k, i + 4 + k, i + 4 + (k + 1) % 4, i + (k + 1) % 4], axis=1)
@@ -192,10 +189,17 @@ def long_thin(length=1000.0, width=1.0, segments=1000):
     quads = np.vstack([quads, [[0, 3, 2, 1], [last, last + 1, last + 2, last + 3]]])
     tris = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
     centre = positions[tris].mean(axis=1)
-    outward = centre * [0.0, 1.0, 1.0] + np.where(np.abs(centre[:, :1]) >= 0.5 * length - 1e-9,
-                                                  np.sign(centre[:, :1]) * [[1.0, 0.0, 0.0]], 0.0)
-    scene.add(positions, _orient_each(positions, tris, outward))
-    scene.add(*box(size=(length, 0.2 * width, 0.5 * width), center=(0.0, 0.0, 0.75 * width), subdivisions=2))
+    end = np.abs(centre[:, :1]) >= 0.5 * length - 1e-9
+    outward = np.where(end, np.sign(centre[:, :1]) * [[1.0, 0.0, 0.0]], centre * [0.0, 1.0, 1.0])
+    return positions + np.asarray(center), _orient_each(positions, tris, outward)
+
+
+def long_thin(length=1000.0, width=1.0, segments=1000):
+    """A beam ``length`` long with a square section of side ``width`` (aspect 1:1000), with a
+    narrower ledge standing on it that shadows its top."""
+    scene = _Builder()
+    scene.add(*beam(length, width, width, segments))
+    scene.add(*beam(length, 0.2 * width, 0.5 * width, segments, center=(0.0, 0.0, 0.75 * width)))
     return scene.mesh()
 
 

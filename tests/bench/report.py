@@ -58,6 +58,15 @@ def spiral_ramp_object():
     return add_object("Fold", mesh_from_arrays("Fold", positions, triangles))
 
 
+def interior_object():
+    """The generated interior of 1,300+ pieces (tests/real_assets.py): the kind of scene that used to fail to pack."""
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
+    from real_assets import interior
+    from blender_scenes import add_object, mesh_from_arrays
+    positions, triangles = interior()
+    return add_object("Interior", mesh_from_arrays("Interior", positions, triangles))
+
+
 MESHES = {
     "cube": lambda: _cube(),
     "suzanne": lambda: suzanne(2),
@@ -65,6 +74,7 @@ MESHES = {
     "sphere_plane": lambda: sphere_over_plane(),
     "fold": spiral_ramp_object,
     "dense": lambda: suzanne(4, name="Dense Suzanne"),
+    "interior": interior_object,
 }
 
 

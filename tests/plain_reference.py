@@ -1,0 +1,73 @@
+"""A plain AO reference that shares no code with the baker.
+
+Plain ``mathutils.bvhtree.BVHTree.ray_cast`` in a Python loop; numpy
+pseudo-random cosine-distributed directions around the interpolated shading
+normal; the origin lifted along the geometric normal; a hit closer than the
+maximum distance occludes fully.  Nothing else: no Sobol' points, no
+mirroring of rays below the face, no stepping through back faces.
+"""
+
+import numpy as np
+from mathutils import Vector
+from mathutils.bvhtree import BVHTree
+
+#: Origin lift along the geometric normal, relative to the mesh's bounding-box diagonal.
+LIFT = 1e-5
+
+
+def plain_ao(positions, triangles, points, shading, geometric, max_distance, rays=4096, seed=0):
+    """AO (1 open, 0 blocked) at ``points`` (k, 3), binary hits within ``max_distance``.
+
+    ``shading`` and ``geometric`` are (k, 3) unit normals; ``positions`` (v, 3) and
+    ``triangles`` (t, 3) are the occluders, in the same space as the points.
+    """
+    positions = np.asarray(positions, dtype=np.float64)
+    tree = BVHTree.FromPolygons(positions.tolist(), np.asarray(triangles).tolist(), all_triangles=True)
+    lift = LIFT * float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0)))
+    rng = np.random.default_rng(seed)
+    out = np.empty(len(points))
+    for k, (point, normal, face_normal) in enumerate(zip(points, shading, geometric)):
+        tangent = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
+        tangent /= np.linalg.norm(tangent)
+        bitangent = np.cross(normal, tangent)
+        u1, u2 = rng.random(rays), rng.random(rays)
+        radius, angle = np.sqrt(u1), 2.0 * np.pi * u2
+        directions = (np.outer(radius * np.cos(angle), tangent) + np.outer(radius * np.sin(angle), bitangent)
+                      + np.outer(np.sqrt(1.0 - u1), normal))
+        origin = Vector((point + lift * face_normal).tolist())
+        blocked = sum(tree.ray_cast(origin, Vector(d), max_distance)[0] is not None for d in directions.tolist())
+        out[k] = 1.0 - blocked / rays
+    return out
+
+
+def visible_points(positions, triangles, count, seed=0, tolerance=1e-6):
+    """Area-weighted random surface points, leaving out points that lie on an opposite-facing surface.
+
+    A point on a crate's bottom lies on the floor it stands on: it is never
+    seen, and its AO depends on how coincident surfaces are treated.  Each
+    point is tested alone (not its triangle's centre), so a floor partly
+    under a crate keeps its visible part.
+
+    Returns triangle (k,), bary (k, 3), points (k, 3).
+    """
+    positions = np.asarray(positions, dtype=np.float64)
+    triangles = np.asarray(triangles)
+    corners = positions[triangles]
+    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    area = 0.5 * np.linalg.norm(cross, axis=1)
+    normal = cross / np.maximum(2.0 * area, 1e-300)[:, None]
+    tree = BVHTree.FromPolygons(positions.tolist(), triangles.tolist(), all_triangles=True)
+    radius = tolerance * float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0)))
+    rng = np.random.default_rng(seed)
+    chosen, weights, found = [], [], []
+    while len(found) < count:
+        triangle = rng.choice(len(area), size=count, p=area / area.sum())
+        r1, r2 = rng.random(count), rng.random(count)
+        s = np.sqrt(r1)
+        bary = np.stack([1 - s, s * (1 - r2), s * r2], axis=1)
+        points = np.einsum("kc,kcd->kd", bary, corners[triangle])
+        for t, b, p in zip(triangle, bary, points):
+            near = tree.find_nearest_range(Vector(p.tolist()), radius)
+            if not any(n.dot(Vector(normal[t].tolist())) < -0.99 for _, n, other, _ in near if other != t):
+                chosen.append(t), weights.append(b), found.append(p)
+    return np.array(chosen[:count]), np.array(weights[:count]), np.array(found[:count])
