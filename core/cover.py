@@ -85,9 +85,10 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     last = rows[member_chart] - 1
     r0 = np.clip(np.floor((y_min - chart_low_y) / chart_band), 0, last).astype(np.int64)
     r1 = np.clip(np.floor((y_max - chart_low_y) / chart_band), 0, last).astype(np.int64)
-    # a triangle inside one band adds its own x-extent; only those crossing bands are clipped
-    inside = r0 == r1
-    count = np.where(inside, 0, r1 - r0 + 1)
+    # A triangle touching one or two bands adds its own x-extent to each (conservative by less
+    # than its width); only triangles spanning more bands are clipped to each band exactly.
+    short = r1 - r0 <= 1
+    count = np.where(short, 0, r1 - r0 + 1)
     pair_member = np.repeat(np.arange(len(member_chart)), count)
     pair_row = np.repeat(r0, count) + np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
     band_low = chart_low_y[pair_member] + pair_row * chart_band[pair_member]
@@ -96,11 +97,12 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     band_low = np.where(pair_row == 0, -np.inf, band_low)
     band_high = np.where(pair_row == last[pair_member], np.inf, band_high)
     x0, x1 = clipped_x_extent(local_uv[pair_member], band_low, band_high)
-    whole = np.flatnonzero(inside)
-    x0 = np.concatenate([local_uv[whole, :, 0].min(axis=1), x0])
-    x1 = np.concatenate([local_uv[whole, :, 0].max(axis=1), x1])
-    pair_member = np.concatenate([whole, pair_member])
-    pair_row = np.concatenate([r0[whole], pair_row])
+    whole = np.flatnonzero(short)
+    whole_low, whole_high = local_uv[whole, :, 0].min(axis=1), local_uv[whole, :, 0].max(axis=1)
+    x0 = np.concatenate([whole_low, whole_low, x0])
+    x1 = np.concatenate([whole_high, whole_high, x1])
+    pair_member = np.concatenate([whole, whole, pair_member])
+    pair_row = np.concatenate([r0[whole], r1[whole], pair_row])
 
     key = first_row[member_chart[pair_member]] + pair_row
     x_low = np.full(int(rows.sum()), np.inf)
