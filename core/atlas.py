@@ -2,10 +2,11 @@
 
 Every chart is its faces projected on the chart's axis plane (drop one
 coordinate, :data:`.clustering.BASES` keeps the image unmirrored), scaled by
-one texel density for all charts.  xatlas places the charts (no rotation, so
-side charts keep +Z up); the placement of each chart is then read back as an
-affine map from chart-plane coordinates to texels, and every UV is computed
-from it in float64.  Texel coordinates: texel ``(x, y)`` covers
+one texel density for all charts.  :mod:`.packing` places the charts (xatlas
+for the large ones, given their covers; shared shelf-packed boxes for the small
+ones; one texel for those under a texel), never rotated, so side charts keep +Z
+up; each chart's placement is an affine map from chart-plane coordinates to
+texels, and every UV is computed from it in float64.  Texel coordinates: texel ``(x, y)`` covers
 ``[x, x+1] x [y, y+1]``, its centre is ``(x + 0.5, y + 0.5)``, row 0 is the
 bottom row (Blender's image and UV convention); UV = texel / size.
 """
@@ -19,6 +20,7 @@ from .cover import chart_covers
 from .errors import SeamlessAOError
 from .mesh import cross2d
 from .packing import MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density
+
 
 @dataclass
 class Atlas:
@@ -166,7 +168,8 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     covers = chart_covers(local_uv[live], member_chart[live], charts.count, expected)
     if image_size is not None:
         # the density at which the charts' boxes with the least padding fill the image
-        expected = density_filling(covers.extent, MIN_PADDING, image_size**2, POINT_TEXELS / max(covers.extent.max(), 1e-300),
+        all_points = POINT_TEXELS / max(covers.extent.max(), 1e-300)
+        expected = density_filling(covers.extent, MIN_PADDING, image_size**2, all_points,
                                    image_size / np.sqrt(max(area, 1e-300)))
     padding = effective_padding(covers.extent, expected, padding)
     packer = Packer(covers, _chart_centres(mesh, member_triangle, member_chart, charts.count), padding)

@@ -11,7 +11,7 @@ import numpy as np
 
 from .adjacency import face_adjacency
 from .atlas import chart_plane_area, estimate_density, pack_charts
-from .clustering import cluster_faces, cut_long_charts, make_injective
+from .clustering import cut_long_charts, make_injective, signed_axis_clusters
 from .errors import SeamlessAOError
 from .mesh import TriangleMesh, require_faces
 from .raster import rasterise
@@ -69,13 +69,14 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     timings = {}
     start = time.perf_counter()
     topologies = [face_adjacency(mesh) for mesh in meshes]
-    charts = [cluster_faces(mesh, topology, compare_angle) for mesh, topology in zip(meshes, topologies)]
+    charts = [signed_axis_clusters(mesh, topology, compare_angle) for mesh, topology in zip(meshes, topologies)]
     timings["charts"] = time.perf_counter() - start
 
     start = time.perf_counter()
     area = sum(chart_plane_area(mesh, c) for mesh, c in zip(meshes, charts))
     expected = density if density is not None else estimate_density(area, image_size)
-    # A second pass keeps distant parts of a chart apart by a few texels, so
+    # One injectivity pass with a margin: it splits folds (what cluster_faces
+    # does) and also keeps distant parts of a chart a few texels apart, so
     # filtering at a chart's edge never mixes in AO from another surface.
     charts = [make_injective(mesh, topology, c, margin=SEPARATION_TEXELS / expected)
               for mesh, topology, c in zip(meshes, topologies, charts)]

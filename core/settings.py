@@ -102,8 +102,8 @@ class BakeSettings:
         256.0, "Texel Density", "Texels per scene unit (used when Resolution By is Texel Density)",
         min=1.0e-6, max=1.0e9, unit="texels per scene unit")
     padding: int = _setting(
-        4, "Padding", "Texels around each chart kept free of other charts and filled with AO (the first ring "
-        "gets rays of its own), so filtering and mip-maps never read an empty texel",
+        4, "Padding", "Texels kept free between large charts and filled with AO, at most: with thousands of "
+        "pieces it shrinks to 2, and charts a few texels across share boxes with only the ring filtering reads",
         min=2, max=32, unit="texels")
     memory_budget_mb: int = _setting(
         4096, "Memory Budget", "Refuse to start a bake estimated to need more memory than this",
