@@ -40,10 +40,10 @@ def sobol_2d(indices):
     """
     indices = np.asarray(indices, dtype=np.uint64)
     out = np.zeros((len(indices), 2), dtype=np.uint64)
-    for bit in range(_BITS):
+    # every bit up to the highest one any index has (a bit no index has set may sit below a set one:
+    # indices 16..23 all lack bit 3 but not bit 4)
+    for bit in range(int(indices.max()).bit_length() if len(indices) else 0):
         set_bit = ((indices >> np.uint64(bit)) & np.uint64(1)).astype(bool)
-        if not set_bit.any():
-            break
         out[set_bit, 0] ^= _FIRST[bit]
         out[set_bit, 1] ^= _SECOND[bit]
     return out

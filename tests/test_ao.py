@@ -108,6 +108,24 @@ def test_sobol_prefixes_are_stratified():
         assert len({tuple(c) for c in cells}) == k, "the first {} points do not fill a {}-cell grid".format(k, k)
 
 
+def test_sobol_points_do_not_depend_on_the_batch_they_are_asked_in():
+    """Rays 16..23 asked alone (the adaptive pass asks for the rays after the pilot) are rays 16..23, not 0..7."""
+    whole = sobol_2d(np.arange(4096))
+    for start, stop in ((16, 24), (17, 28), (1024, 1100), (4000, 4096)):
+        assert (sobol_2d(np.arange(start, stop)) == whole[start:stop]).all(), (start, stop)
+
+
+def test_first_4096_sobol_points_are_distinct_and_every_power_of_two_prefix_is_stratified():
+    """(0, 2)-sequence: each prefix of 2^k points has one point in every 2^a x 2^(k-a) box, for every a."""
+    points = sobol_2d(np.arange(4096))
+    assert len({tuple(p) for p in points.tolist()}) == 4096
+    for k in range(13):
+        prefix = points[:2**k]
+        for a in range(k + 1):
+            cell = (prefix[:, 0] >> np.uint64(32 - a)) * np.uint64(2**(k - a)) + (prefix[:, 1] >> np.uint64(32 - (k - a)))
+            assert len(np.unique(cell)) == 2**k, (k, a)
+
+
 def test_convergence_and_low_discrepancy_beats_random():
     caster = BVHCaster(*quads(FLOOR, WALL_X0))
     distances = np.linspace(0.0, 2.0, 150)
