@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .mesh import band_x_extent
+
 #: Most bands per chart (a chart's cover has twice as many triangles).
 MAX_ROWS = 32
 #: Height of one band at the expected density, in texels.
@@ -93,10 +95,11 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     pair_row = np.repeat(r0, count) + np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
     band_low = chart_low_y[pair_member] + pair_row * chart_band[pair_member]
     band_high = band_low + chart_band[pair_member]
-    # the first and last band reach the chart's exact bounds (no rounding gap)
-    band_low = np.where(pair_row == 0, -np.inf, band_low)
-    band_high = np.where(pair_row == last[pair_member], np.inf, band_high)
-    x0, x1 = clipped_x_extent(local_uv[pair_member], band_low, band_high)
+    # the first and last band reach past the chart's bounds (no rounding gap)
+    reach = chart_band[pair_member]
+    band_low = np.where(pair_row == 0, band_low - reach, band_low)
+    band_high = np.where(pair_row == last[pair_member], band_high + reach, band_high)
+    x0, x1 = band_x_extent(local_uv[pair_member], band_low, band_high)
     whole = np.flatnonzero(short)
     whole_low, whole_high = local_uv[whole, :, 0].min(axis=1), local_uv[whole, :, 0].max(axis=1)
     x0 = np.concatenate([whole_low, whole_low, x0])
@@ -115,39 +118,6 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     x_low[empty] = np.where(np.isfinite(low[chart_of_row[empty], 0]), low[chart_of_row[empty], 0], 0.0)
     x_high[empty] = np.where(np.isfinite(high[chart_of_row[empty], 0]), high[chart_of_row[empty], 0], 0.0)
     return Covers(low=low, high=high, rows=rows, first_row=first_row, x_low=x_low, x_high=x_high)
-
-
-def clipped_x_extent(triangle, y_low, y_high):
-    """x-extent of each 2D triangle clipped to the band ``y_low <= y <= y_high``.
-
-    Parameters
-    ----------
-    triangle : (k, 3, 2) float64
-    y_low, y_high : (k,) float64 (may be infinite)
-
-    Returns
-    -------
-    x_low, x_high : (k,) float64; ``inf, -inf`` where the triangle misses the band.
-
-    The clipped polygon's corners are the triangle's corners inside the band
-    and the crossings of its edges with the band's two lines, so the extent
-    over those points is exact.
-    """
-    x, y = triangle[:, :, 0], triangle[:, :, 1]
-    inside = (y >= y_low[:, None]) & (y <= y_high[:, None])
-    candidates = [np.where(inside, x, np.inf)], [np.where(inside, x, -np.inf)]
-    xa, ya = x, y
-    xb, yb = np.roll(x, -1, axis=1), np.roll(y, -1, axis=1)                 # edges (0,1), (1,2), (2,0)
-    dy = yb - ya
-    for line in (y_low, y_high):
-        level = line[:, None]
-        crosses = ((ya - level) * (yb - level) <= 0) & (dy != 0) & np.isfinite(level)
-        t = np.divide(level - ya, dy, out=np.zeros_like(dy), where=crosses)
-        xc = xa + t * (xb - xa)
-        candidates[0].append(np.where(crosses, xc, np.inf))
-        candidates[1].append(np.where(crosses, xc, -np.inf))
-    return (np.concatenate(candidates[0], axis=1).min(axis=1),
-            np.concatenate(candidates[1], axis=1).max(axis=1))
 
 
 @dataclass

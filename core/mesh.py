@@ -17,6 +17,33 @@ def cross2d(a, b):
     """z component of the cross product of 2D vectors: ``a``, ``b`` (..., 2) -> (...,)."""
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
+
+def band_x_extent(triangle, band_low, band_high):
+    """x-extent of each 2D triangle (r, 3, 2) clipped to a horizontal band [band_low, band_high] (r,).
+
+    The clipped polygon's corners are the triangle's corners inside the band and
+    the crossings of its edges with the band's two lines, so the extent over
+    those points is exact.  Returns ``(low, high)``, ``(inf, -inf)`` where the
+    band misses the triangle.  Both bounds must be finite.
+    """
+    low = np.full(len(triangle), np.inf)
+    high = np.full(len(triangle), -np.inf)
+    x, y = triangle[..., 0], triangle[..., 1]
+    for k in range(3):                                   # corners inside the band
+        inside = (y[:, k] >= band_low) & (y[:, k] <= band_high)
+        low = np.where(inside, np.minimum(low, x[:, k]), low)
+        high = np.where(inside, np.maximum(high, x[:, k]), high)
+    for k in range(3):                                   # edges crossing the band's borders
+        px, py, qx, qy = x[:, k], y[:, k], x[:, (k + 1) % 3], y[:, (k + 1) % 3]
+        dy = qy - py
+        for line in (band_low, band_high):
+            crosses = (np.minimum(py, qy) <= line) & (line <= np.maximum(py, qy)) & (dy != 0)
+            at = px + (line - py) * (qx - px) / np.where(dy != 0, dy, 1.0)
+            low = np.where(crosses, np.minimum(low, at), low)
+            high = np.where(crosses, np.maximum(high, at), high)
+    return low, high
+
+
 #: Triangles with less area than this times the squared mesh size are degenerate.
 DEGENERATE_AREA = 1.0e-20
 #: Vertices closer than this times the mesh size are welded for adjacency.

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .mesh import cross2d
+from .mesh import band_x_extent, cross2d
 
 COVERED, NEAR, PADDING = 0, 1, 2
 
@@ -122,8 +122,11 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     row_y = np.repeat(y0, rows) + (np.arange(int(rows.sum())) - np.repeat(np.cumsum(rows) - rows, rows))
     centre_y = row_y + 0.5
     tri = uv[row_member]
-    inside_low, inside_high = _row_span(tri, centre_y, centre_y)
-    near_low, near_high = _row_span(tri, centre_y - 1.0, centre_y + 1.0)
+    # covered spans only where the row's centre line meets the triangle (most rows are near-only)
+    meets = (centre_y >= low[row_member, 1]) & (centre_y <= high[row_member, 1])
+    inside_low, inside_high = np.full(len(tri), np.inf), np.full(len(tri), -np.inf)
+    inside_low[meets], inside_high[meets] = band_x_extent(tri[meets], centre_y[meets], centre_y[meets])
+    near_low, near_high = band_x_extent(tri, centre_y - 1.0, centre_y + 1.0)
     c0 = np.clip(np.ceil(inside_low - 0.5), 0, width).astype(np.int64)
     c1 = np.clip(np.floor(inside_high - 0.5), -1, width - 1).astype(np.int64)
     n0 = np.clip(np.ceil(near_low - 1.5), 0, width).astype(np.int64)
@@ -170,29 +173,6 @@ def _best_per_texel(texel, score, owner):
     first = np.ones(len(texel), dtype=bool)
     first[1:] = texel[1:] != texel[:-1]
     return texel[first], score[first], owner[first]
-
-
-def _row_span(triangle, band_low, band_high):
-    """x-extent of each triangle (r, 3, 2) within a horizontal band [band_low, band_high] (r,).
-
-    Returns ``(low, high)``, ``(inf, -inf)`` where the band misses the triangle.
-    """
-    low = np.full(len(triangle), np.inf)
-    high = np.full(len(triangle), -np.inf)
-    x, y = triangle[..., 0], triangle[..., 1]
-    for k in range(3):                                   # corners inside the band
-        inside = (y[:, k] >= band_low) & (y[:, k] <= band_high)
-        low = np.where(inside, np.minimum(low, x[:, k]), low)
-        high = np.where(inside, np.maximum(high, x[:, k]), high)
-    for k in range(3):                                   # edges crossing the band's borders
-        px, py, qx, qy = x[:, k], y[:, k], x[:, (k + 1) % 3], y[:, (k + 1) % 3]
-        dy = qy - py
-        for line in (band_low, band_high):
-            crosses = (np.minimum(py, qy) <= line) & (line <= np.maximum(py, qy)) & (dy != 0)
-            at = px + (line - py) * (qx - px) / np.where(dy != 0, dy, 1.0)
-            low = np.where(crosses, np.minimum(low, at), low)
-            high = np.where(crosses, np.maximum(high, at), high)
-    return low, high
 
 
 def _expand_spans(row_y, x_start, x_end, owner, width):
