@@ -184,6 +184,9 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
                 "A texel density of {:g} needs an image of about {:.0f} texels or more across, larger than {}; "
                 "lower the density".format(density, needed, max_size))
         placement = packer.place(density, 0, share=1)
+        if placement is None:                       # xatlas reshaped a chart: no layout at this density
+            raise SeamlessAOError(
+                "Could not lay out the charts at a texel density of {:g}; choose Image Size instead".format(density))
         if max(placement.width, placement.height) > max_size:
             raise SeamlessAOError(
                 "A texel density of {:g} needs a {}x{} image, larger than {}; lower the density".format(

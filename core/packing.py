@@ -156,7 +156,7 @@ def largest_density(packer, image_size, area):
 
 
 class Packer:
-    """Places charts at a given density (see the module doc); counts its xatlas runs.
+    """Places charts at a given density (see the module doc).
 
     Parameters
     ----------
@@ -171,7 +171,6 @@ class Packer:
         self.padding = int(padding)
         self.extent = covers.extent
         self.has_live = np.isfinite(covers.low[:, 0])
-        self.runs = 0
 
     def share_needed(self, image_size):
         """Charts per texel needed if every chart were one texel (1 unless there are more charts than room)."""
@@ -182,7 +181,6 @@ class Packer:
         """A :class:`Placement` at ``density`` in a ``resolution`` image (0: as large as needed), or None."""
         import xatlas  # bundled wheel; imported here so the rest of core works without it
 
-        self.runs += 1
         count = len(self.extent)
         kind = chart_kinds(self.extent, self.has_live, density)
         large, small, points = (np.flatnonzero(kind == k) for k in (2, 1, 0))
