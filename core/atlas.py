@@ -113,7 +113,7 @@ def chart_plane_area(mesh, charts):
     """Total area of all charts in their planes (object units squared)."""
     member_triangle, member_chart, _ = chart_members(mesh, charts)
     uv, _ = project(mesh.positions[mesh.triangles[member_triangle]], charts.chart_axis[member_chart][:, None])
-    return float(0.5 * np.abs(cross2d(uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0])).sum())
+    return _plane_area(uv)
 
 
 def estimate_density(area, image_size, utilisation=0.55):

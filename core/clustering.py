@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .graph import Adjacency, connected_components
+from .mesh import group_boxes
 from .overlap import fold_conflicts
 
 AXIS_NAMES = ("+X", "-X", "+Y", "-Y", "+Z", "-Z")
@@ -277,24 +278,20 @@ def cut_long_charts(mesh, charts, max_length):
     """
     corners = mesh.positions[mesh.triangles]                                  # (t, 3, 3)
     chart_of_face = charts.chart_of_face.copy()
-    cut = False
+    chart_axis = charts.chart_axis
     for axis in range(3):
         column = chart_of_face[:, axis]
         triangle = np.flatnonzero(column[mesh.triangle_face] >= 0)
         chart = column[mesh.triangle_face[triangle]]
-        uv, _ = project(corners[triangle], charts.chart_axis[chart][:, None])
-        low = np.full((len(charts.chart_axis), 2), np.inf)
-        high = np.full((len(charts.chart_axis), 2), -np.inf)
-        np.minimum.at(low, chart, uv.min(axis=1))
-        np.maximum.at(high, chart, uv.max(axis=1))
+        uv, _ = project(corners[triangle], chart_axis[chart][:, None])
+        low, high = group_boxes(uv, chart, len(chart_axis))
         length = np.where(np.isfinite(low), high - low, 0.0)
         pieces = np.ceil(length.max(axis=1) / max(max_length, 1e-300)).astype(np.int64)
         long_chart = pieces > 1
-        if not long_chart[chart].any():
-            continue
-        cut = True
-        along = np.argmax(length, axis=1)                                     # (c,) 0 = u, 1 = v
         keep = long_chart[chart]
+        if not keep.any():
+            continue
+        along = np.argmax(length, axis=1)                                     # (c,) 0 = u, 1 = v
         triangle, chart, uv = triangle[keep], chart[keep], uv[keep]
         centre = uv.mean(axis=1)[np.arange(len(chart)), along[chart]]
         start, span = low[chart, along[chart]], length[chart, along[chart]]
@@ -304,18 +301,14 @@ def cut_long_charts(mesh, charts, max_length):
         face_slab = np.zeros(mesh.face_count, dtype=np.int64)
         face_slab[face[::-1]] = slab[::-1]
         faces = np.unique(face)
-        first_new = len(charts.chart_axis) + np.concatenate([[0], np.cumsum(pieces[long_chart] - 1)])[:-1]
-        base = np.zeros(len(charts.chart_axis), dtype=np.int64)
-        base[long_chart] = first_new
+        base = np.zeros(len(chart_axis), dtype=np.int64)
+        base[long_chart] = len(chart_axis) + np.concatenate([[0], np.cumsum(pieces[long_chart] - 1)])[:-1]
         old = column[faces]
         column[faces] = np.where(face_slab[faces] == 0, old, base[old] + face_slab[faces] - 1)
-        new_axis = np.repeat(charts.chart_axis[long_chart], pieces[long_chart] - 1)
-        charts = Charts(chart_of_face, np.concatenate([charts.chart_axis, new_axis]), charts.dominant_axis,
-                        charts.splits)
-        chart_of_face = charts.chart_of_face
-    if not cut:
+        chart_axis = np.concatenate([chart_axis, np.repeat(chart_axis[long_chart], pieces[long_chart] - 1)])
+    if len(chart_axis) == len(charts.chart_axis):
         return charts
-    return _renumber(Charts(chart_of_face, charts.chart_axis, charts.dominant_axis, charts.splits))
+    return _renumber(Charts(chart_of_face, chart_axis, charts.dominant_axis, charts.splits))
 
 
 def _relabel(on_axis, labels, chart_axis, edges, axis):

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .mesh import band_x_extent
+from .graph import index_in_runs
+from .mesh import band_x_extent, group_boxes
 
 #: Most bands per chart (a chart's cover has twice as many triangles).
 MAX_ROWS = 32
@@ -71,10 +72,7 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     Covers
     """
     member_chart = np.asarray(member_chart, dtype=np.int64)
-    low = np.full((chart_count, 2), np.inf)
-    high = np.full((chart_count, 2), -np.inf)
-    np.minimum.at(low, member_chart, local_uv.min(axis=1))
-    np.maximum.at(high, member_chart, local_uv.max(axis=1))
+    low, high = group_boxes(local_uv, member_chart, chart_count)
     height = np.where(np.isfinite(low[:, 1]), high[:, 1] - low[:, 1], 0.0)
     rows = np.clip(np.ceil(height * expected_density / ROW_TEXELS), 1, MAX_ROWS).astype(np.int64)
     first_row = np.concatenate([[0], np.cumsum(rows)[:-1]])
@@ -92,7 +90,7 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     short = r1 - r0 <= 1
     count = np.where(short, 0, r1 - r0 + 1)
     pair_member = np.repeat(np.arange(len(member_chart)), count)
-    pair_row = np.repeat(r0, count) + np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
+    pair_row = np.repeat(r0, count) + index_in_runs(count)
     band_low = chart_low_y[pair_member] + pair_row * chart_band[pair_member]
     band_high = band_low + chart_band[pair_member]
     # the first and last band reach past the chart's bounds (no rounding gap)
@@ -155,7 +153,7 @@ def cover_at_density(covers, charts, density, min_texels=1.0):
     rows = covers.rows[charts]
     lines = rows + 1
     line_chart = np.repeat(charts, lines)
-    line_index = np.arange(int(lines.sum())) - np.repeat(np.cumsum(lines) - lines, lines)
+    line_index = index_in_runs(lines)
     row_count = covers.rows[line_chart]
     first = covers.first_row[line_chart]
     # boundary line k joins bands k-1 and k: its extent is the union of both
@@ -191,7 +189,7 @@ def cover_at_density(covers, charts, density, min_texels=1.0):
 
     # two triangles per band: lines k and k+1 of the same chart
     line_start = np.repeat(np.cumsum(lines) - lines, rows) * 2
-    band_index = np.arange(int(rows.sum())) - np.repeat(np.cumsum(rows) - rows, rows)
+    band_index = index_in_runs(rows)
     a = line_start + 2 * band_index          # bottom-left; +1 bottom-right; +2 top-left; +3 top-right
     indices = np.concatenate([np.stack([a, a + 1, a + 3], 1), np.stack([a, a + 3, a + 2], 1)])
     face_chart = np.concatenate([np.repeat(charts, rows)] * 2)

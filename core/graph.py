@@ -53,6 +53,15 @@ def _compress(parent):
         parent = grand
 
 
+def index_in_runs(counts):
+    """Index of each item within its run, for runs of ``counts`` (n,) items laid end to end.
+
+    ``index_in_runs([2, 0, 3]) == [0, 1, 0, 1, 2]``; (sum(counts),) int64.
+    """
+    counts = np.asarray(counts, dtype=np.int64)
+    return np.arange(int(counts.sum()), dtype=np.int64) - np.repeat(np.cumsum(counts) - counts, counts)
+
+
 def group_starts(sorted_keys):
     """Start index of each run of equal values in a sorted 1D array, plus the end."""
     sorted_keys = np.asarray(sorted_keys)
@@ -83,9 +92,8 @@ def pairs_within_groups(starts):
     group_end = np.repeat(starts[1:], np.diff(starts))
     position = np.arange(size, dtype=np.int64)
     partners = group_end - position - 1          # elements after this one in its group
-    total = int(partners.sum())
     first = np.repeat(position, partners)
-    offset = np.arange(total, dtype=np.int64) - np.repeat(np.cumsum(partners) - partners, partners)
+    offset = index_in_runs(partners)
     return np.stack([first, first + 1 + offset], axis=1)
 
 

@@ -18,6 +18,19 @@ def cross2d(a, b):
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
+def group_boxes(triangle, group, count):
+    """Bounding box of each group of 2D triangles: ``low, high`` (count, 2) float64.
+
+    ``triangle`` (k, 3, 2), ``group`` (k,) int in ``[0, count)``; an empty group
+    gets ``low = inf, high = -inf``.
+    """
+    low = np.full((count, 2), np.inf)
+    high = np.full((count, 2), -np.inf)
+    np.minimum.at(low, group, triangle.min(axis=1))
+    np.maximum.at(high, group, triangle.max(axis=1))
+    return low, high
+
+
 def band_x_extent(triangle, band_low, band_high):
     """x-extent of each 2D triangle (r, 3, 2) clipped to a horizontal band [band_low, band_high] (r,).
 

@@ -9,7 +9,7 @@ never O(n²).
 
 import numpy as np
 
-from .graph import pairs_within_groups
+from .graph import index_in_runs, pairs_within_groups
 from .mesh import cross2d
 
 
@@ -48,7 +48,7 @@ def candidate_pairs(uv, group, margin=0.0):
     span = last - first + 1
     count = span[:, 0] * span[:, 1]
     entry = np.repeat(np.arange(len(live), dtype=np.int64), count)
-    local = np.arange(int(count.sum()), dtype=np.int64) - np.repeat(np.cumsum(count) - count, count)
+    local = index_in_runs(count)
     cell_x = first[entry, 0] + local % span[entry, 0]
     cell_y = first[entry, 1] + local // span[entry, 0]
     order = np.lexsort((cell_y, cell_x, group[live][entry]))

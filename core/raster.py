@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .graph import index_in_runs
 from .mesh import band_x_extent, cross2d
 
 COVERED, NEAR, PADDING = 0, 1, 2
@@ -119,7 +120,7 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     y1 = np.clip(np.floor(high[:, 1] + 0.5), 0, height - 1).astype(np.int64)
     rows = np.maximum(y1 - y0 + 1, 0)
     row_member = np.repeat(np.arange(len(live)), rows)
-    row_y = np.repeat(y0, rows) + (np.arange(int(rows.sum())) - np.repeat(np.cumsum(rows) - rows, rows))
+    row_y = np.repeat(y0, rows) + index_in_runs(rows)
     centre_y = row_y + 0.5
     tri = uv[row_member]
     # covered spans only where the row's centre line meets the triangle (most rows are near-only)
@@ -188,7 +189,7 @@ def _expand_spans(row_y, x_start, x_end, owner, width):
         stop = max(int(np.searchsorted(ends, ends[start] - count[start] + CHUNK, side="right")), start + 1)
         part = count[start:stop]
         row = start + np.repeat(np.arange(stop - start), part)
-        x = x_start[row] + (np.arange(int(part.sum())) - np.repeat(np.cumsum(part) - part, part))
+        x = x_start[row] + index_in_runs(part)
         yield row_y[row] * width + x, owner[row]
         start = stop
 
