@@ -360,9 +360,3 @@ def closest_barycentric(triangle, x, y):
     degenerate = np.abs(cross2d(ab, ac)) <= 0
     out[degenerate] = 1.0 / 3.0
     return out[:, 0], out[:, 1], out[:, 2]
-
-
-def barycentric(triangle, point):
-    """Barycentric coordinates (k, 3) of 2D points (k, 2) in triangles (k, 3, 2); may be negative."""
-    w1, w2 = _barycentric12(triangle, point[:, 0], point[:, 1])
-    return np.stack([1.0 - w1 - w2, w1, w2], axis=1)
