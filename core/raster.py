@@ -28,6 +28,9 @@ from .graph import index_in_runs
 from .mesh import band_x_extent, cross2d
 
 COVERED, NEAR, PADDING = 0, 1, 2
+#: Points on a triangle's rim move this far (times the object size) into it: twice
+#: the ray origins' lift (:data:`.ao.ORIGIN_OFFSET`), see :func:`_inset_rim_points`.
+RIM_INSET = 2.0e-5
 
 #: Rasterise at most this many candidate texels at once (bounds peak memory).
 CHUNK = 1 << 22
@@ -300,6 +303,8 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     positions = mesh.positions
     points = (b0[:, None] * positions[corner[:, 0]] + b1[:, None] * positions[corner[:, 1]]
               + b2[:, None] * positions[corner[:, 2]])
+    points = _inset_rim_points(points, np.minimum(np.minimum(b0, b1), b2) <= 0.0,
+                               positions[corner].mean(axis=1), RIM_INSET * mesh.scale)
     normals = mesh.corner_normals[triangle]
     normals = b0[:, None] * normals[:, 0] + b1[:, None] * normals[:, 1] + b2[:, None] * normals[:, 2]
     geometric = mesh.triangle_normal[triangle]
@@ -307,6 +312,21 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     ok = length > 1e-12
     normals = np.where(ok, normals / np.where(ok, length, 1.0), geometric)
     return points, normals, geometric
+
+
+def _inset_rim_points(points, rim, centres, inset):
+    """Move the ``rim`` points (k,) bool toward their triangle's centre by ``inset`` (at most half way).
+
+    A rim point at a concave crease lies exactly in the plane of the other
+    face; rays from it into that face's half-space would start on its plane,
+    miss it and see the outside (a bright line along the crease).  Inset,
+    the point lies strictly on its own face's side of the crease.
+    """
+    towards = centres[rim] - points[rim]
+    length = np.sqrt((towards * towards).sum(axis=1))
+    step = np.minimum(inset, 0.5 * length) / np.maximum(length, 1e-300)
+    points[rim] += towards * step[:, None]
+    return points
 
 
 def closest_barycentric(triangle, x, y):

@@ -71,3 +71,32 @@ def visible_points(positions, triangles, count, seed=0, tolerance=1e-6):
             if not any(n.dot(Vector(normal[t].tolist())) < -0.99 for _, n, other, _ in near if other != t):
                 chosen.append(t), weights.append(b), found.append(p)
     return np.array(chosen[:count]), np.array(weights[:count]), np.array(found[:count])
+
+
+def reference_at_visible_points(mesh, count=500, rays=4096, seed=3):
+    """The plain reference at ``count`` visible points of a mesh, with the maximum distance used.
+
+    ``mesh`` has ``positions``, ``triangles``, ``corner_normals`` (t, 3, 3) and
+    ``triangle_normal`` (t, 3) (a :class:`seamless_ao.core.mesh.TriangleMesh`);
+    the maximum distance is half the bounding-box diagonal.
+
+    Returns triangle (k,), bary (k, 3), shading normals (k, 3), AO (k,), max_distance.
+    """
+    max_distance = 0.5 * float(np.linalg.norm(mesh.positions.max(axis=0) - mesh.positions.min(axis=0)))
+    triangle, bary, points = visible_points(mesh.positions, mesh.triangles, count, seed=seed)
+    normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    reference = plain_ao(mesh.positions, mesh.triangles, points, normals, mesh.triangle_normal[triangle],
+                         max_distance, rays=rays, seed=seed + 1)
+    return triangle, bary, normals, reference, max_distance
+
+
+def locate(positions, triangles, points):
+    """The triangle (k,) and barycentrics (k, 3) of surface points (k, 3) (nearest triangle)."""
+    positions = np.asarray(positions, dtype=np.float64)
+    tree = BVHTree.FromPolygons(positions.tolist(), np.asarray(triangles).tolist(), all_triangles=True)
+    found = np.array([tree.find_nearest(Vector(p))[2] for p in np.asarray(points).tolist()])
+    a, b, c = (positions[triangles[found, k]] for k in range(3))
+    edges = np.stack([b - a, c - a], axis=2)                                     # (k, 3, 2)
+    uv = np.stack([np.linalg.lstsq(e, d, rcond=None)[0] for e, d in zip(edges, points - a)])
+    return found, np.stack([1.0 - uv.sum(axis=1), uv[:, 0], uv[:, 1]], axis=1)
