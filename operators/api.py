@@ -118,6 +118,10 @@ def check_objects(objects, settings):
         seen_meshes[ob.data.name] = ob.name
         if not len(ob.data.polygons):
             raise SeamlessAOError("'{}' has no faces to bake (only vertices or loose edges)".format(ob.name))
+        if flattened(ob.matrix_world):
+            raise SeamlessAOError(
+                "'{}' is scaled to zero along an axis (its own or a parent's scale), so it has no surface to "
+                "bake; give it a non-zero scale".format(ob.name))
         others = [uv.name for uv in ob.data.uv_layers if uv.name not in AO_LAYERS]
         if len(others) + len(AO_LAYERS) > MAX_UV_MAPS:
             raise SeamlessAOError(
@@ -126,6 +130,12 @@ def check_objects(objects, settings):
                                            len(others) + len(AO_LAYERS) - MAX_UV_MAPS))
     if settings.save_image != "NONE" and not bpy.data.filepath:
         raise SeamlessAOError("Save the .blend file first: the AO image is written next to it")
+
+
+def flattened(matrix_world):
+    """Whether a world matrix squashes space flat: its smallest singular value is under 1e-9 of its largest."""
+    singular = np.linalg.svd(np.array(matrix_world.to_3x3(), dtype=np.float64), compute_uv=False)
+    return not singular[-1] > 1e-9 * singular[0]
 
 
 def evaluated_mesh_of(ob, depsgraph):

@@ -167,3 +167,17 @@ def test_cancel_midway_changes_nothing(monkey):
         seamless_ao.bake([monkey], should_cancel=cancel_after_a_few_steps, image_size=512, rays=64)
     assert len(calls) > 4
     assert blend_state() == before
+
+
+def test_zero_scale_is_refused(monkey):
+    monkey.scale = (1.0, 0.0, 1.0)
+    expect_refusal([monkey], "'Suzanne' is scaled to zero along an axis")
+
+
+def test_zero_scale_of_a_parent_is_refused(monkey):
+    parent = bpy.data.objects.new("Flat parent", None)
+    bpy.context.scene.collection.objects.link(parent)
+    parent.scale = (0.0, 1.0, 1.0)
+    monkey.parent = parent
+    bpy.context.view_layer.update()
+    expect_refusal([monkey], "'Suzanne' is scaled to zero along an axis")

@@ -6,7 +6,7 @@ import pytest
 
 from accuracy import errors, reference_ao, shown_seamless, surface_samples
 from blender_checks import image_array, uv_layer_array
-from blender_scenes import add_object, mesh_from_faces
+from blender_scenes import add_object, mesh_from_faces, suzanne
 from conftest import seamless_ao
 from hard_meshes import HARD_MESHES
 from seamless_ao.core.pipeline import build_layout
@@ -131,3 +131,90 @@ def test_concave_corner_shows_no_bright_line(addon, fresh_scene):
             shown = shown_seamless(ob, image, loops, triangle, bary, normals)
             bias = float(np.mean(shown - reference))
             assert abs(bias) <= 0.025, (name, side, bias)
+
+
+
+#: Transforms users give objects: their own scale, or a parent's scale and rotation (radians).
+TRANSFORMS = {
+    "mirrored": dict(scale=(-1.0, 1.0, 1.0)),
+    "stretched 1:1000": dict(scale=(0.03, 30.0, 1.0)),
+    "under a scaled, rotated parent": dict(parent_scale=(2.0, 0.5, 1.0), parent_rotation=(0.3, 0.5, 0.7)),
+}
+
+
+def transformed_torus(name):
+    """A flat-shaded torus (no parts inside others) with one of :data:`TRANSFORMS`; returns the object,
+    its mesh and loops, and a map of object-space points and normals to world space."""
+    transform = TRANSFORMS[name]
+    bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.4, major_segments=48, minor_segments=16)
+    ob = bpy.context.active_object
+    ob.scale = transform.get("scale", (1.0, 1.0, 1.0))
+    if "parent_scale" in transform:
+        parent = bpy.data.objects.new("Parent", None)
+        bpy.context.scene.collection.objects.link(parent)
+        parent.scale, parent.rotation_euler = transform["parent_scale"], transform["parent_rotation"]
+        ob.parent = parent
+    bpy.context.view_layer.update()
+    mesh, loops = read_triangles(ob.data)
+    matrix = np.array(ob.matrix_world, dtype=np.float64)
+
+    def to_world(points, normals):
+        turned = normals @ np.linalg.inv(matrix[:3, :3])                 # inverse transpose, as row vectors
+        return points @ matrix[:3, :3].T + matrix[:3, 3], turned / np.linalg.norm(turned, axis=1, keepdims=True)
+    return ob, mesh, loops, to_world
+
+
+@pytest.mark.parametrize("name", sorted(TRANSFORMS))
+def test_texels_of_a_transformed_object_get_the_ao_of_the_object_in_the_scene(name, addon, fresh_scene):
+    """Issue 16, item 2: whatever the object's transform, each texel gets the AO of its surface point
+    as the object stands in the scene (world space, normals as Blender shows them): the bake's own ray
+    setup (operators) at 200 texel points, against the plain reference on the transformed mesh."""
+    from plain_reference import plain_ao
+    from seamless_ao.core.ao import occlusion_sums
+    from seamless_ao.core.raster import texel_geometry
+    from seamless_ao.core.settings import BakeSettings
+    from seamless_ao.operators.api import ray_setup
+
+    ob, mesh, loops, to_world = transformed_torus(name)
+    world, _ = to_world(mesh.positions, mesh.triangle_normal)
+    max_distance = 0.5 * float(np.linalg.norm(world.max(axis=0) - world.min(axis=0)))
+    settings = BakeSettings(rays=512, auto_distance=False, max_distance=max_distance, adaptive=False)
+    params, caster, to_ray = ray_setup(ob, mesh, settings, bpy.context.scene, bpy.context.evaluated_depsgraph_get())
+    layout = build_layout(mesh, image_size=256)
+    texels = np.random.default_rng(2).choice(np.flatnonzero(layout.texels.ring == 0), 200, replace=False)
+    points, normals, geometric = texel_geometry(layout.texels, layout.atlas, mesh, texels)
+    try:
+        ray_points, ray_normals = to_ray(points, normals)
+        _, ray_geometric = to_ray(points, geometric)
+        ours = 1.0 - occlusion_sums(ray_points, ray_normals, ray_geometric, texels, np.arange(params.rays),
+                                    params, caster) / params.rays
+    finally:
+        getattr(caster, "free", lambda: None)()
+    world_points, world_normals = to_world(points, normals)
+    reference = plain_ao(world, mesh.triangles, world_points, world_normals, to_world(points, geometric)[1],
+                         max_distance, rays=2048, seed=4)
+    rmse, worst = errors(ours, reference)
+    assert rmse <= 0.02 and worst <= 0.06, (name, rmse, worst)
+
+
+@pytest.mark.parametrize("name", sorted(TRANSFORMS))
+def test_transformed_object_shows_the_ao_of_the_object_in_the_scene(name, addon, fresh_scene):
+    """What the material shows on the transformed torus, against the plain reference on the transformed
+    mesh, within the usual limits.  (The layout is in object space, so texels stretch with the object:
+    the stretched torus is within the limits, but a stretched, flat-shaded Suzanne is not, its facets'
+    normals swinging 45 degrees from facet to facet once squashed; see README, "Object transforms".)"""
+    from plain_reference import plain_ao, visible_points
+
+    ob, mesh, loops, to_world = transformed_torus(name)
+    world, _ = to_world(mesh.positions, mesh.triangle_normal)
+    triangle, bary, points = visible_points(mesh.positions, mesh.triangles, 300, seed=3)
+    normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    max_distance = 0.5 * float(np.linalg.norm(world.max(axis=0) - world.min(axis=0)))
+    world_points, world_normals = to_world(points, normals)
+    reference = plain_ao(world, mesh.triangles, world_points, world_normals,
+                         to_world(points, mesh.triangle_normal[triangle])[1], max_distance, rays=2048, seed=4)
+    report = seamless_ao.bake([ob], image_size=512, rays=32, auto_distance=False, max_distance=max_distance)
+    shown = shown_seamless(ob, bpy.data.images[report.image], loops, triangle, bary, normals)
+    rmse, p99 = errors(shown, reference)
+    assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (name, rmse, p99)
