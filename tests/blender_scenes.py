@@ -24,10 +24,14 @@ def suzanne(subdivisions=2, name="Suzanne", smooth=True):
     return ob
 
 
-def mesh_from_arrays(name, positions, triangles):
+def mesh_from_arrays(name, positions, triangles, smooth=False):
+    """A mesh of ``positions`` (v, 3) and ``triangles`` (t, 3), flat shaded unless ``smooth``."""
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata([tuple(map(float, p)) for p in positions], [], [tuple(map(int, t)) for t in triangles])
     mesh.validate()
+    if smooth:
+        mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
+        mesh.update()
     return mesh
 
 
