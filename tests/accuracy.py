@@ -1,71 +1,57 @@
-"""Error as the user sees it: the shown AO at random surface points against a many-ray reference."""
+"""Error as the user sees it: the shown AO at random visible surface points against the plain reference."""
 
 import numpy as np
 
 from blender_checks import image_array, shown_seamless, uv_layer_array  # noqa: F401 (shown_seamless: for the tests)
-from seamless_ao.core.ao import shade
+from plain_reference import plain_ao, visible_points
 from seamless_ao.core.blend import bilinear
 from seamless_ao.core.settings import BakeSettings
 
 
 def surface_samples(mesh, count, seed=0):
-    """Area-weighted random surface points of a TriangleMesh, on faces that can be seen.
+    """Area-weighted random visible surface points of a TriangleMesh.
 
-    Faces lying on another, opposite-facing surface (a block's bottom on a
-    floor) are left out: they are never visible, and their AO depends only
-    on how a renderer treats exactly coincident surfaces.
+    Points lying on another, opposite-facing surface (the part of a block's
+    bottom on a floor) are left out, each point on its own (see
+    :func:`plain_reference.visible_points`): they are never seen, and their
+    AO depends only on how a renderer treats exactly coincident surfaces.
 
     Returns triangle (k,), bary (k, 3), normals (k, 3) (interpolated shading normals, object space).
     """
-    rng = np.random.default_rng(seed)
-    weight = np.where(mesh.degenerate | hidden_triangles(mesh), 0.0, mesh.triangle_area)
-    triangle = rng.choice(len(weight), size=count, p=weight / weight.sum())
-    r1, r2 = rng.random(count), rng.random(count)
-    s = np.sqrt(r1)
-    bary = np.stack([1 - s, s * (1 - r2), s * r2], axis=1)
+    triangle, bary, _ = visible_points(mesh.positions, mesh.triangles, count, seed=seed)
     normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     return triangle, bary, normals
 
 
-def hidden_triangles(mesh, tolerance=1e-6):
-    """Triangles whose centre lies on another triangle facing the opposite way."""
-    from mathutils import Vector
-    from mathutils.bvhtree import BVHTree
+def reference_ao(ob, mesh, triangle, bary, normals, rays=2048, settings=None, seed=0):
+    """The plain reference (:mod:`plain_reference`, no code shared with the bake) at surface points.
 
-    tree = BVHTree.FromPolygons(mesh.positions.tolist(), mesh.triangles.tolist(), all_triangles=True)
-    centres = mesh.positions[mesh.triangles].mean(axis=1)
-    hidden = np.zeros(len(mesh.triangles), dtype=bool)
-    radius = tolerance * mesh.scale
-    for index, (centre, normal) in enumerate(zip(centres.tolist(), mesh.triangle_normal.tolist())):
-        for _, other_normal, other, _ in tree.find_nearest_range(Vector(centre), radius):
-            if other != index and other_normal.dot(Vector(normal)) < -0.99:
-                hidden[index] = True
-                break
-    return hidden
+    The object as it stands in the scene: positions and normals in world
+    space (centred on the object), the bake's maximum distance (``settings``, default
+    :class:`BakeSettings`: half the world bounding-box diagonal).  Binary
+    hits only: the reference knows no falloff, cone, ground plane or scene
+    occluders, so it refuses settings that use them.
+    """
+    settings = settings or BakeSettings()
+    if (settings.falloff, settings.cone_angle, settings.use_ground_plane, settings.use_scene_occluders) != (
+            "NONE", 90.0, False, False):
+        raise ValueError("the plain reference computes binary hemisphere AO of the object alone")
+    matrix = np.array(ob.matrix_world, dtype=np.float64)
+    linear, shift = matrix[:3, :3], matrix[:3, 3]
 
+    def to_world_normal(vectors):
+        turned = vectors @ np.linalg.inv(linear)                             # inverse transpose, as rows
+        return turned / np.linalg.norm(turned, axis=1, keepdims=True)
 
-def reference_ao(ob, mesh, triangle, bary, normals, rays=2048, settings=None, batch=256):
-    """AO at surface points with many rays (no adaptive stop), same conventions as the bake."""
-    import bpy
-    from seamless_ao.operators.api import ray_setup
-
-    settings = (settings or BakeSettings()).replace(adaptive=False)
-    params, caster, to_ray = ray_setup(ob, mesh, settings, bpy.context.scene,
-                                       bpy.context.evaluated_depsgraph_get(), rays=rays)
-    try:
-        points = np.einsum("kc,kcd->kd", bary, mesh.positions[mesh.triangles[triangle]])
-        points, shading = to_ray(points, normals)
-        _, geometric = to_ray(points, mesh.triangle_normal[triangle])
-        out = np.empty(len(points), dtype=np.float64)
-        for start in range(0, len(points), batch):
-            part = slice(start, start + batch)
-            out[part] = shade(points[part], shading[part], geometric[part],
-                              np.arange(len(points))[part] + 7919, params, caster)[0]
-        return out
-    finally:
-        if hasattr(caster, "free"):
-            caster.free()
+    world = mesh.positions @ linear.T + shift
+    # centred in float64 (AO does not move with the object), so a float32 BVH keeps its precision far out
+    world -= 0.5 * (world.min(axis=0) + world.max(axis=0))
+    points = np.einsum("kc,kcd->kd", bary, world[mesh.triangles[triangle]])
+    max_distance = (0.5 * float(np.linalg.norm(world.max(axis=0) - world.min(axis=0)))
+                    if settings.auto_distance else settings.max_distance)
+    return plain_ao(world, mesh.triangles, points, to_world_normal(normals),
+                    to_world_normal(mesh.triangle_normal[triangle]), max_distance, rays=rays, seed=seed)
 
 
 def shown_single_uv(ob, image, uv_name, triangle_loops, triangle, bary):

@@ -53,11 +53,7 @@ def visible_points(positions, triangles, count, seed=0, tolerance=1e-6):
     positions = np.asarray(positions, dtype=np.float64)
     triangles = np.asarray(triangles)
     corners = positions[triangles]
-    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    area = 0.5 * np.linalg.norm(cross, axis=1)
-    normal = cross / np.maximum(2.0 * area, 1e-300)[:, None]
-    tree = BVHTree.FromPolygons(positions.tolist(), triangles.tolist(), all_triangles=True)
-    radius = tolerance * float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0)))
+    area = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
     rng = np.random.default_rng(seed)
     chosen, weights, found = [], [], []
     while len(found) < count:
@@ -66,11 +62,27 @@ def visible_points(positions, triangles, count, seed=0, tolerance=1e-6):
         s = np.sqrt(r1)
         bary = np.stack([1 - s, s * (1 - r2), s * r2], axis=1)
         points = np.einsum("kc,kcd->kd", bary, corners[triangle])
-        for t, b, p in zip(triangle, bary, points):
-            near = tree.find_nearest_range(Vector(p.tolist()), radius)
-            if not any(n.dot(Vector(normal[t].tolist())) < -0.99 for _, n, other, _ in near if other != t):
-                chosen.append(t), weights.append(b), found.append(p)
-    return np.array(chosen[:count]), np.array(weights[:count]), np.array(found[:count])
+        seen = ~hidden(positions, triangles, triangle, points, tolerance)
+        chosen.append(triangle[seen]), weights.append(bary[seen]), found.extend(points[seen])
+    return np.concatenate(chosen)[:count], np.concatenate(weights)[:count], np.array(found[:count])
+
+
+def hidden(positions, triangles, triangle, points, tolerance=1e-6):
+    """(k,) bool: whether each point (k, 3) of ``triangle`` (k,) lies on another, opposite-facing triangle
+    (within ``tolerance`` of the bounding-box diagonal)."""
+    positions = np.asarray(positions, dtype=np.float64)
+    triangles = np.asarray(triangles)
+    corners = positions[triangles]
+    cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    normal = cross / np.maximum(np.linalg.norm(cross, axis=1), 1e-300)[:, None]
+    tree = BVHTree.FromPolygons(positions.tolist(), triangles.tolist(), all_triangles=True)
+    radius = tolerance * float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0)))
+    out = np.zeros(len(points), dtype=bool)
+    for k, (t, p) in enumerate(zip(np.asarray(triangle).tolist(), np.asarray(points).tolist())):
+        own = Vector(normal[t].tolist())
+        out[k] = any(n.dot(own) < -0.99 for _, n, other, _ in tree.find_nearest_range(Vector(p), radius)
+                     if other != t)
+    return out
 
 
 def reference_at_visible_points(mesh, count=500, rays=4096, seed=3):

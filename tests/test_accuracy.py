@@ -1,4 +1,5 @@
-"""Issue 6: at default settings the shown AO is within fixed error bounds of a many-ray reference.
+"""Issue 6: at default settings the shown AO is within fixed error bounds of the plain many-ray reference
+(tests/plain_reference.py, no code shared with the bake).
 
 The bounds fail when the blend or the UV mapping is broken (see
 test_thresholds_catch_a_broken_blend and ..._broken_uvs).

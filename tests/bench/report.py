@@ -2,12 +2,19 @@
 
     make bench          (= .venv/5.0/bin/python tests/bench/report.py --output-dir out/bench)
 
-For each mesh it computes a reference AO at random surface points with many
-rays (cached on disk), then bakes with Seamless AO and with Cycles at several
+For each mesh it computes the plain reference (tests/plain_reference.py: no
+code shared with either baker) at random visible surface points with many
+rays (cached on disk, keyed by the mesh, the points and the reference's code;
+the maximum distance is fixed: half the object's diagonal), then bakes with Seamless AO and with Cycles at several
 settings, and evaluates what each shows at those points: for Seamless AO the
 normal-squared blend through AO_X/Y/Z, for Cycles a bilinear lookup through
 its Smart UV map, both as Blender's Image Texture node samples.  Both use
 binary AO within the same maximum distance (half the object's diagonal).
+
+Timing: per mesh, one untimed bake of each baker first (the same warm-up
+for both), then every point is baked TIMED_RUNS times and the median run is
+reported.  Smart UV Project keeps islands 4 texels apart at each image size
+(cycles_baseline.ISLAND_MARGIN_TEXELS) and Cycles' bake margin is 16 px.
 
 Seams: for every chart border of a method (Seamless AO: mesh edges where any
 of the three UV maps jumps; Cycles: UV island borders), points a tiny step
@@ -31,9 +38,10 @@ from common import markdown_table
 
 import bpy
 
-from accuracy import errors, hidden_triangles, reference_ao, shown_seamless, shown_single_uv, surface_samples
+from accuracy import errors, reference_ao, shown_seamless, shown_single_uv, surface_samples
 from blender_scenes import cornell_box, sphere_over_plane, suzanne
 from cycles_baseline import UV_NAME, cycles_ao_bake
+from plain_reference import hidden
 from seamless_ao.core.settings import BakeSettings
 from seamless_ao.operators.mesh_data import read_triangles
 
@@ -44,6 +52,8 @@ REFERENCE_RAYS = 4096
 POINTS = 2000
 SEAM_EDGES = 150
 SEAM_RAYS = 512
+#: Each timed point is run this many times; the median time is reported.
+TIMED_RUNS = 3
 SEAMLESS_RUNS = [(512, 8), (512, 16), (1024, 16), (1024, 32)]
 CYCLES_RUNS = [(512, 16), (512, 64), (1024, 64)]
 #: Without the denoiser, to show what it buys (issue 9: keep it only if the numbers say it helps).
@@ -94,8 +104,11 @@ def fresh(mesh_name):
 
 
 def mesh_key(mesh):
-    digest = hashlib.sha1(mesh.positions.tobytes() + mesh.triangles.tobytes()).hexdigest()[:12]
-    return "{}-{}-{}-{}".format(digest, POINTS, REFERENCE_RAYS, BakeSettings().cone_angle)
+    """Cache key of a reference: the mesh, the points, the rays and the reference's own code."""
+    code = (pathlib.Path(__file__).resolve().parent.parent / "plain_reference.py").read_bytes()
+    code += (pathlib.Path(__file__).resolve().parent.parent / "accuracy.py").read_bytes()
+    digest = hashlib.sha1(mesh.positions.tobytes() + mesh.triangles.tobytes() + code).hexdigest()[:12]
+    return "{}-{}-{}".format(digest, POINTS, REFERENCE_RAYS)
 
 
 def reference(ob, mesh, cache):
@@ -142,7 +155,7 @@ def seam_pairs(mesh, loops, uv_layers, rng, limit=SEAM_EDGES, step=1e-4):
             sa = uv[s_loops[np.arange(len(s)), match_a]]
             sb = uv[s_loops[np.arange(len(s)), match_b]]
             seams |= (np.abs(fa - sa).max(1) > 1e-6) | (np.abs(fb - sb).max(1) > 1e-6)
-    skip = mesh.degenerate | hidden_triangles(mesh)          # hidden faces: see accuracy.surface_samples
+    skip = mesh.degenerate
     index = np.flatnonzero(seams & ~skip[first[:, 2]] & ~skip[second[:, 2]])
     if len(index) > limit:
         index = rng.choice(index, size=limit, replace=False)
@@ -157,6 +170,13 @@ def seam_pairs(mesh, loops, uv_layers, rng, limit=SEAM_EDGES, step=1e-4):
             bary_a = _nudge(mesh, ta, point, step)
             bary_b = _nudge(mesh, tb, point, step)
             pairs.append((ta, bary_a, tb, bary_b))
+    # seam points lying on an opposite-facing surface are never seen (see accuracy.surface_samples)
+    if pairs:
+        ta, ba, tb, bb = (np.array(column) for column in zip(*pairs))
+        on_a = np.einsum("kc,kcd->kd", ba, mesh.positions[mesh.triangles[ta]])
+        on_b = np.einsum("kc,kcd->kd", bb, mesh.positions[mesh.triangles[tb]])
+        seen = ~(hidden(mesh.positions, mesh.triangles, ta, on_a) | hidden(mesh.positions, mesh.triangles, tb, on_b))
+        pairs = [pair for pair, keep in zip(pairs, seen) if keep]
     if not pairs:
         return None
     ta, ba, tb, bb = zip(*pairs)
@@ -222,10 +242,31 @@ def run_mesh(name, cache, out, rows, curves):
         curves.setdefault((name, method), []).append((seconds, rmse, label))
         print("  " + " | ".join(rows[-1][1:]), flush=True)
 
+    # The same warm-up for both: one untimed bake of each before any timed one (Cycles loads its
+    # kernels, the add-on its Geometry Nodes caster), then every point is timed TIMED_RUNS times and
+    # the median run reported.
+    warm = cycles_ao_bake(ob, 256, 1, distance)[0]
+    bpy.data.images.remove(warm)
+    PACKAGE.bake([ob], image_size=256, rays=1)                  # replaced by the next bake
+
+    def cycles_median(image_size, samples):
+        runs = []
+        for _ in range(TIMED_RUNS):
+            image, unwrap, bake = cycles_ao_bake(ob, image_size, samples, distance)
+            runs.append((unwrap + bake, unwrap, bake, image))
+        runs.sort(key=lambda run: run[0])
+        for run in runs[:len(runs) // 2] + runs[len(runs) // 2 + 1:]:
+            bpy.data.images.remove(run[3])
+        return runs[len(runs) // 2][1:]
+
+    def seamless_median(**settings):
+        runs = sorted((PACKAGE.bake([ob], **settings) for _ in range(TIMED_RUNS)), key=lambda r: r.seconds)
+        return runs[len(runs) // 2]
+
     # Cycles first, so the last Seamless AO bake is still in place for the seam renders.
     kept = None
     for image_size, samples in CYCLES_RUNS[:1] if trivial else CYCLES_RUNS:
-        image, unwrap, bake = cycles_ao_bake(ob, image_size, samples, distance)
+        unwrap, bake, image = cycles_median(image_size, samples)
         record("Cycles", "{}², {} samples".format(image_size, samples), unwrap + bake,
                "unwrap {:.2f} + bake {:.2f}".format(unwrap, bake),
                shown_single_uv(ob, image, UV_NAME, loops, triangle, bary),
@@ -238,7 +279,7 @@ def run_mesh(name, cache, out, rows, curves):
     runs = [(size, rays, False) for size, rays in ([] if trivial else RAW_RUNS)]
     runs += [(size, rays, True) for size, rays in (SEAMLESS_RUNS[:1] if trivial else SEAMLESS_RUNS)]
     for image_size, rays, denoise in runs:
-        report = PACKAGE.bake([ob], image_size=image_size, rays=rays, denoise=denoise)
+        report = seamless_median(image_size=image_size, rays=rays, denoise=denoise)
         image = bpy.data.images[report.image]
         t = report.timings
         record("Seamless AO" if denoise else "Seamless AO, no denoise", "{}², {} rays".format(image_size, rays),
