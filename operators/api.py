@@ -26,7 +26,7 @@ from ..core.errors import BakeCancelled, SeamlessAOError
 from ..core.pipeline import AOJob, build_layout, estimated_bytes, texel_image
 from ..core.settings import BakeSettings
 from ..shaders import material as material_nodes
-from ..shaders.node_group import find_node_group
+from ..shaders.node_group import GROUP_VERSION, VERSION_KEY, find_node_group, node_group as build_node_group
 from .mesh_data import read_triangles
 from .raycast_nodes import NodesCaster
 
@@ -132,6 +132,18 @@ def check_objects(objects, settings):
         raise SeamlessAOError("Save the .blend file first: the AO image is written next to it")
 
 
+def mesh_fingerprint(ob):
+    """What a bake's writes rely on, cheaply: the object's mesh, its counts, a checksum of its vertex
+    positions and of its loops' vertices (a few ms for a million vertices)."""
+    mesh = ob.data
+    positions = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", positions)
+    loop_vertices = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertices)
+    return (mesh.as_pointer(), len(mesh.vertices), len(mesh.loops), len(mesh.polygons),
+            zlib.crc32(positions.tobytes()), zlib.crc32(loop_vertices.tobytes()))
+
+
 def flattened(matrix_world):
     """Whether a world matrix squashes space flat: its smallest singular value is under 1e-9 of its largest."""
     singular = np.linalg.svd(np.array(matrix_world.to_3x3(), dtype=np.float64), compute_uv=False)
@@ -204,6 +216,7 @@ class BakeSession:
                 ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, job.computed, self.settings.rays)
                 layout.timings["denoise"] = time.perf_counter() - start
             yield 0.96, "Writing image, UV maps and materials"
+            self._check_unchanged()
             image = texel_image(layout.texels, ao, job.computed)
             warnings = list(layout.atlas.warnings) + self._write(layout, image)
             timings = dict(layout.timings, rays=ao_seconds)
@@ -248,7 +261,23 @@ class BakeSession:
             meshes.append(triangle_mesh)
             frames.append((ob, loops, np.array(ob.matrix_world, dtype=np.float64)))
         self.frames = frames
+        self.fingerprints = [mesh_fingerprint(ob) for ob in self.objects]
         return meshes, frames
+
+    def _check_unchanged(self):
+        """Refuse to write if a baked object was deleted, edited or put in Edit Mode since it was read
+        (the interactive bake lets the user work meanwhile; undo also replaces objects)."""
+        for ob, fingerprint in zip(self.objects, self.fingerprints):
+            try:
+                name = ob.name
+                changed = ob.mode == "EDIT" or mesh_fingerprint(ob) != fingerprint
+            except ReferenceError:
+                raise SeamlessAOError(
+                    "An object being baked was deleted or undone during the bake; nothing was written") from None
+            if changed:
+                raise SeamlessAOError(
+                    "'{}' was edited during the bake, so the AO no longer fits its mesh; nothing was written: "
+                    "bake again".format(name))
 
     def _check_memory(self, meshes, layout=None):
         if layout is None:
@@ -304,15 +333,19 @@ class BakeSession:
                 part_uv = layer_uv[offsets[part]:offsets[part + 1]]
                 transaction.uv_maps(ob.data, loops, part_uv)
             _fail_here("uv_maps")
+            transaction.node_group()
             for ob in self.objects:
                 warnings += transaction.materials(ob, image, self.settings.hook_materials, self.objects)
                 transaction.set_property(ob, IMAGE_KEY, image.name)
             _fail_here("materials")
             if self.settings.save_image != "NONE":
-                save_image_file(image, image_values, self.settings.save_image)
+                transaction.file(image_file_path(image, self.settings.save_image),
+                                 lambda path: save_image_file(path, image, image_values, self.settings.save_image))
+            _fail_here("saved")
         except BaseException:
             transaction.roll_back()
             raise
+        transaction.commit()
         return warnings
 
 
@@ -379,11 +412,65 @@ class Transaction:
 
     def __init__(self):
         self.undo = []
+        self.undo_first = []            # undone before the rest: the node group, before its users
+        self.on_commit = []
 
     def roll_back(self):
-        for action in reversed(self.undo):
+        for action in self.undo_first + self.undo[::-1]:
             action()
         self.undo.clear()
+        self.undo_first.clear()
+        self.on_commit.clear()
+
+    def commit(self):
+        """Everything was written: drop what was kept only for a roll-back."""
+        for action in self.on_commit:
+            action()
+        self.on_commit.clear()
+        self.undo.clear()
+        self.undo_first.clear()
+
+    def node_group(self):
+        """The current ``Seamless AO`` group.  An older one is rebuilt in place; until the bake is
+        committed a copy of the old one is kept, so a roll-back puts it back for every material."""
+        group = find_node_group()
+        if group is None:
+            self.undo.append(_remove_node_group_if_unused)
+        elif group.get(VERSION_KEY) != GROUP_VERSION:
+            backup = group.copy()
+            del backup[VERSION_KEY]                   # not found as ours meanwhile
+
+            def restore(group=group, backup=backup, name=group.name, version=group[VERSION_KEY]):
+                group.user_remap(backup)
+                bpy.data.node_groups.remove(group)
+                backup.name = name
+                backup[VERSION_KEY] = version
+            # first: the materials, restored afterwards, relink to the old group's sockets; their
+            # snapshots are taken now, since rebuilding the group drops their links to it
+            self.undo_first.append(restore)
+            for material in bpy.data.materials:
+                if material.node_tree is not None and any(
+                        n.bl_idname == "ShaderNodeGroup" and n.node_tree == group for n in material.node_tree.nodes):
+                    self.undo.append(MaterialSnapshot(material).restore)
+            self.on_commit.append(lambda backup=backup: bpy.data.node_groups.remove(backup))
+        return build_node_group()
+
+    def file(self, path, write):
+        """``write(path)``, undone by putting back the file that was there (or removing the new one)."""
+        old = None
+        if os.path.exists(path):
+            with open(path, "rb") as handle:
+                old = handle.read()
+
+        def restore(path=path, old=old):
+            if old is None:
+                if os.path.exists(path):
+                    os.remove(path)
+            else:
+                with open(path, "wb") as handle:
+                    handle.write(old)
+        self.undo.append(restore)
+        write(path)
 
     def set_property(self, owner, key, value):
         """``owner[key] = value``, undone by restoring (or deleting) the old value."""
@@ -465,8 +552,6 @@ class Transaction:
                 self.undo.append(lambda mesh=ob.data: mesh.materials.pop())
             self.undo.append(lambda material=material: bpy.data.materials.remove(material))
             self.set_property(ob, MATERIAL_KEY, material.name)
-        if find_node_group() is None:
-            self.undo.append(_remove_node_group_if_unused)
         baked_meshes = {o.data for o in baked_objects}
         for material in {slot.material for slot in ob.material_slots if slot.material is not None}:
             if material.library is not None:
@@ -550,14 +635,17 @@ class MaterialSnapshot:
             material.use_nodes = self.had_nodes
 
 
-def save_image_file(image, values, kind):
-    """Write the AO next to the .blend: 16-bit greyscale PNG or 32-bit float OpenEXR."""
+def image_file_path(image, kind):
+    """Where ``save_image`` writes: next to the .blend, named after the image."""
     folder = os.path.dirname(bpy.path.abspath(bpy.data.filepath))
+    return os.path.join(folder, image.name + (".png" if kind == "PNG" else ".exr"))
+
+
+def save_image_file(path, image, values, kind):
+    """Write the AO to ``path``: 16-bit greyscale PNG or 32-bit float OpenEXR."""
     if kind == "PNG":
-        path = os.path.join(folder, image.name + ".png")
         write_png16(path, values)
     else:
-        path = os.path.join(folder, image.name + ".exr")
         copy = bpy.data.images.new(".SeamlessAO_save", image.size[0], image.size[1], alpha=False, float_buffer=True)
         try:
             copy.colorspace_settings.name = "Non-Color"
@@ -569,7 +657,6 @@ def save_image_file(image, values, kind):
             copy.save()
         finally:
             bpy.data.images.remove(copy)
-    return path
 
 
 def write_png16(path, values):

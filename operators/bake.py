@@ -84,7 +84,7 @@ class OBJECT_OT_seamless_ao_bake(bpy.types.Operator):
             self.report({"ERROR"}, "Seamless AO failed unexpectedly ({}); nothing was changed".format(error))
             return {"CANCELLED"}
         context.window_manager.progress_update(int(100 * fraction))
-        self._status(context, "Seamless AO: {} (Esc to cancel)".format(message))
+        self._status(context, "Seamless AO: {} (Esc to cancel; editing a baked object also cancels)".format(message))
         if fraction >= 1.0 and self.session.report is not None:
             self._end(context)
             self._finish_report(self.session.report)

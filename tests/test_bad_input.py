@@ -181,3 +181,101 @@ def test_zero_scale_of_a_parent_is_refused(monkey):
     monkey.parent = parent
     bpy.context.view_layer.update()
     expect_refusal([monkey], "'Suzanne' is scaled to zero along an axis")
+
+
+def edit_midway(change):
+    """A progress callback that calls ``change()`` once the rays are being cast."""
+    done = []
+
+    def progress(fraction, message):
+        if not done and message.startswith("Casting rays"):
+            done.append(change())
+    return progress
+
+
+@pytest.mark.parametrize("edit", ["move a vertex", "delete a face", "enter Edit Mode"])
+def test_edits_during_the_bake_cancel_it_cleanly(monkey, edit):
+    """Issue 16, item 1: the interactive bake lets the user work while rays are cast; a bake whose
+    object was edited meanwhile must not write stale UVs into the edited mesh."""
+    import bmesh
+
+    def change():
+        if edit == "move a vertex":
+            monkey.data.vertices[0].co.x += 0.1
+        elif edit == "delete a face":
+            mesh = bmesh.new()
+            mesh.from_mesh(monkey.data)
+            mesh.faces.ensure_lookup_table()
+            bmesh.ops.delete(mesh, geom=[mesh.faces[0]], context="FACES_ONLY")
+            mesh.to_mesh(monkey.data)
+            mesh.free()
+        else:
+            bpy.ops.object.mode_set(mode="EDIT")
+        return True
+
+    with pytest.raises(SeamlessAOError, match="'Suzanne' was edited during the bake"):
+        seamless_ao.bake([monkey], progress=edit_midway(change), **FAST)
+    if monkey.mode == "EDIT":
+        bpy.ops.object.mode_set(mode="OBJECT")
+    assert not any(name in monkey.data.uv_layers for name in ("AO_X", "AO_Y", "AO_Z"))
+    assert "Suzanne_AO" not in bpy.data.images and "Seamless AO" not in bpy.data.node_groups
+
+
+def test_deleting_the_object_during_the_bake_cancels_it_cleanly(monkey):
+    mesh = monkey.data
+
+    def change():
+        bpy.data.objects.remove(monkey)
+        return True
+
+    with pytest.raises(SeamlessAOError, match="deleted or undone during the bake"):
+        seamless_ao.bake([monkey], progress=edit_midway(change), **FAST)
+    assert not any(name in mesh.uv_layers for name in ("AO_X", "AO_Y", "AO_Z"))
+    assert "Suzanne_AO" not in bpy.data.images and "Seamless AO" not in bpy.data.node_groups
+
+
+def test_failed_bake_puts_back_an_older_node_group_it_rebuilt(monkey):
+    """Issue 16, item 4: a bake that rebuilds an older ``Seamless AO`` group and then fails restores
+    the old group, for every material using it."""
+    from seamless_ao.shaders.node_group import GROUP_NAME, VERSION_KEY
+    seamless_ao.bake([monkey], **FAST)
+    group = bpy.data.node_groups[GROUP_NAME]
+    group[VERSION_KEY] = 0
+    group.nodes.clear()
+    group.nodes.new("NodeFrame").name = "from an older add-on"
+    before = blend_state()
+    api.inject_failure = "materials"
+    try:
+        with pytest.raises(RuntimeError, match="injected failure"):
+            seamless_ao.bake([monkey], image_size=512, rays=4, seed=9)
+    finally:
+        api.inject_failure = None
+    assert blend_state() == before
+    group = bpy.data.node_groups[GROUP_NAME]
+    assert group[VERSION_KEY] == 0 and [n.name for n in group.nodes] == ["from an older add-on"]
+    users = [n for m in bpy.data.materials if m.node_tree for n in m.node_tree.nodes
+             if n.bl_idname == "ShaderNodeGroup"]
+    assert users and all(n.node_tree == group for n in users)
+    seamless_ao.bake([monkey], **FAST)                   # and a bake that succeeds leaves no copy behind
+    assert [g.name for g in bpy.data.node_groups] == [GROUP_NAME]
+
+
+@pytest.mark.parametrize("existing", [False, True])
+def test_failed_bake_removes_or_restores_the_image_file_it_saved(monkey, tmp_path, existing):
+    """Issue 16, item 4: ``save_image`` writes a file outside the .blend; a bake failing after
+    writing it removes the new file, or puts back the one that was there."""
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "scene.blend"))
+    path = tmp_path / "Suzanne_AO.png"
+    if existing:
+        path.write_bytes(b"an earlier bake's file")
+    api.inject_failure = "saved"
+    try:
+        with pytest.raises(RuntimeError, match="injected failure"):
+            seamless_ao.bake([monkey], save_image="PNG", **FAST)
+    finally:
+        api.inject_failure = None
+    if existing:
+        assert path.read_bytes() == b"an earlier bake's file"
+    else:
+        assert not path.exists()
+    assert "Suzanne_AO" not in bpy.data.images
