@@ -83,6 +83,8 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     # no chart longer than a quarter of the image at the expected density (charts are never rotated)
     longest = (image_size / 4 if density is None else LONGEST_CHART_TEXELS) / expected
     charts = [cut_long_charts(mesh, c, longest) for mesh, c in zip(meshes, charts)]
+    timings["injectivity"] = time.perf_counter() - start
+    start = time.perf_counter()
     mesh, offsets = TriangleMesh.concatenate(meshes) if len(meshes) > 1 else (meshes[0], np.array([0, len(meshes[0].triangles)]))
     topology = merge_topologies(meshes, topologies) if len(meshes) > 1 else topologies[0]
     charts = merge_charts(charts) if len(meshes) > 1 else charts[0]

@@ -13,7 +13,7 @@ binary AO within the same maximum distance (half the object's diagonal).
 
 Timing: per mesh, one untimed bake of each baker first (the same warm-up
 for both), then every point is baked TIMED_RUNS times and the median run is
-reported.  Smart UV Project keeps islands 4 texels apart at each image size
+reported.  Smart UV Project keeps islands 2 texels apart at each image size
 (cycles_baseline.ISLAND_MARGIN_TEXELS) and Cycles' bake margin is 16 px.
 
 Seams: for every chart border of a method (Seamless AO: mesh edges where any
