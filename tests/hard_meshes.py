@@ -34,13 +34,18 @@ def slivers():
     collinear = len(positions)
     positions = np.vstack([positions, [[0.2, -0.6, 0.0], [0.3, -0.6, 0.0], [0.4, -0.6, 0.0]]])
     faces += [[collinear, collinear + 1, collinear + 2]]   # collinear: zero area
+    # a wall along the fan's thin side, facing it, so the slivers' AO is not 1 everywhere
+    wall = len(positions)
+    positions = np.vstack([positions, [[0.0, 0.02, 0.0], [1.0, 0.02, 0.0], [1.0, 0.02, 0.3], [0.0, 0.02, 0.3]]])
+    faces += [[wall, wall + 1, wall + 2, wall + 3]]
     return positions, faces
 
 
 def coplanar_duplicates():
+    """A box with some faces twice, standing on a floor (so its sides darken toward the floor)."""
     positions, triangles = meshes.box(subdivisions=2)
     faces = as_faces(triangles) + as_faces(triangles[:8])      # some faces twice
-    return positions, faces
+    return _with_floor(positions, faces, height=-0.5)
 
 
 def two_walls(gap=1e-4):
@@ -51,10 +56,17 @@ def two_walls(gap=1e-4):
 
 
 def open_bowl():
-    """A hemisphere without its lid or back (open, single-sided)."""
+    """A hemisphere without its lid or back (open, single-sided), hovering over a floor."""
     positions, triangles = meshes.uv_sphere(rings=24, segments=48)
     keep = positions[triangles].mean(axis=1)[:, 2] < 0.0
-    return positions, as_faces(triangles[keep])
+    return _with_floor(positions, as_faces(triangles[keep]), height=-1.15)
+
+
+def _with_floor(positions, faces, height, half=1.5):
+    """``positions``, ``faces`` plus a square floor facing up at ``height``."""
+    start = len(positions)
+    floor = [[-half, -half, height], [half, -half, height], [half, half, height], [-half, half, height]]
+    return np.vstack([positions, floor]), faces + [[start, start + 1, start + 2, start + 3]]
 
 
 def fin():

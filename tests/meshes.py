@@ -32,7 +32,8 @@ def uv_sphere(radius=1.0, rings=24, segments=48):
 
 
 def box(size=(1.0, 1.0, 1.0), center=(0.0, 0.0, 0.0), subdivisions=1):
-    """Axis-aligned box, each side an n x n grid, outward normals."""
+    """Axis-aligned box, each side an n x n grid.  Its faces point *inward* (an earlier docstring said
+    outward, and the generated interior of real_assets.py was built on that belief: see README)."""
     n = subdivisions + 1
     s = np.linspace(-0.5, 0.5, n)
     u, v = np.meshgrid(s, s, indexing="ij")
