@@ -37,21 +37,29 @@ def reference_ao(ob, mesh, triangle, bary, normals, rays=2048, settings=None, se
     if (settings.falloff, settings.cone_angle, settings.use_ground_plane, settings.use_scene_occluders) != (
             "NONE", 90.0, False, False):
         raise ValueError("the plain reference computes binary hemisphere AO of the object alone")
-    matrix = np.array(ob.matrix_world, dtype=np.float64)
-    linear, shift = matrix[:3, :3], matrix[:3, 3]
-
-    def to_world_normal(vectors):
-        turned = vectors @ np.linalg.inv(linear)                             # inverse transpose, as rows
-        return turned / np.linalg.norm(turned, axis=1, keepdims=True)
-
-    world = mesh.positions @ linear.T + shift
+    to_world = world_map(ob)
+    world, _ = to_world(mesh.positions)
     # centred in float64 (AO does not move with the object), so a float32 BVH keeps its precision far out
     world -= 0.5 * (world.min(axis=0) + world.max(axis=0))
     points = np.einsum("kc,kcd->kd", bary, world[mesh.triangles[triangle]])
     max_distance = (0.5 * float(np.linalg.norm(world.max(axis=0) - world.min(axis=0)))
                     if settings.auto_distance else settings.max_distance)
-    return plain_ao(world, mesh.triangles, points, to_world_normal(normals),
-                    to_world_normal(mesh.triangle_normal[triangle]), max_distance, rays=rays, seed=seed)
+    return plain_ao(world, mesh.triangles, points, to_world(points, normals)[1],
+                    to_world(points, mesh.triangle_normal[triangle])[1], max_distance, rays=rays, seed=seed)
+
+
+def world_map(ob):
+    """``to_world(points (k, 3), normals (k, 3) or None) -> (points, unit normals)``: object space to
+    world space as ``ob`` stands (normals by the inverse transpose, as Blender shows them)."""
+    matrix = np.array(ob.matrix_world, dtype=np.float64)
+    linear, shift = matrix[:3, :3], matrix[:3, 3]
+
+    def to_world(points, normals=None):
+        if normals is None:
+            return points @ linear.T + shift, None
+        turned = normals @ np.linalg.inv(linear)                             # inverse transpose, as rows
+        return points @ linear.T + shift, turned / np.linalg.norm(turned, axis=1, keepdims=True)
+    return to_world
 
 
 def shown_single_uv(ob, image, uv_name, triangle_loops, triangle, bary):

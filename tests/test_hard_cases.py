@@ -4,7 +4,7 @@ import bpy
 import numpy as np
 import pytest
 
-from accuracy import errors, reference_ao, shown_seamless, surface_samples
+from accuracy import errors, reference_ao, shown_seamless, surface_samples, world_map
 from blender_checks import image_array, uv_layer_array
 from blender_scenes import add_object, mesh_from_faces, suzanne
 from conftest import seamless_ao
@@ -156,12 +156,7 @@ def transformed_torus(name):
         ob.parent = parent
     bpy.context.view_layer.update()
     mesh, loops = read_triangles(ob.data)
-    matrix = np.array(ob.matrix_world, dtype=np.float64)
-
-    def to_world(points, normals):
-        turned = normals @ np.linalg.inv(matrix[:3, :3])                 # inverse transpose, as row vectors
-        return points @ matrix[:3, :3].T + matrix[:3, 3], turned / np.linalg.norm(turned, axis=1, keepdims=True)
-    return ob, mesh, loops, to_world
+    return ob, mesh, loops, world_map(ob)
 
 
 @pytest.mark.parametrize("name", sorted(TRANSFORMS))
@@ -176,7 +171,7 @@ def test_texels_of_a_transformed_object_get_the_ao_of_the_object_in_the_scene(na
     from seamless_ao.operators.api import ray_setup
 
     ob, mesh, loops, to_world = transformed_torus(name)
-    world, _ = to_world(mesh.positions, mesh.triangle_normal)
+    world, _ = to_world(mesh.positions)
     max_distance = 0.5 * float(np.linalg.norm(world.max(axis=0) - world.min(axis=0)))
     settings = BakeSettings(rays=512, auto_distance=False, max_distance=max_distance, adaptive=False)
     params, caster, to_ray = ray_setup(ob, mesh, settings, bpy.context.scene, bpy.context.evaluated_depsgraph_get())
@@ -206,7 +201,7 @@ def test_transformed_object_shows_the_ao_of_the_object_in_the_scene(name, addon,
     from plain_reference import plain_ao, visible_points
 
     ob, mesh, loops, to_world = transformed_torus(name)
-    world, _ = to_world(mesh.positions, mesh.triangle_normal)
+    world, _ = to_world(mesh.positions)
     triangle, bary, points = visible_points(mesh.positions, mesh.triangles, 300, seed=3)
     normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)

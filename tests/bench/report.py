@@ -175,7 +175,8 @@ def seam_pairs(mesh, loops, uv_layers, rng, limit=SEAM_EDGES, step=1e-4):
         ta, ba, tb, bb = (np.array(column) for column in zip(*pairs))
         on_a = np.einsum("kc,kcd->kd", ba, mesh.positions[mesh.triangles[ta]])
         on_b = np.einsum("kc,kcd->kd", bb, mesh.positions[mesh.triangles[tb]])
-        seen = ~(hidden(mesh.positions, mesh.triangles, ta, on_a) | hidden(mesh.positions, mesh.triangles, tb, on_b))
+        sides = hidden(mesh.positions, mesh.triangles, np.concatenate([ta, tb]), np.vstack([on_a, on_b]))
+        seen = ~(sides[:len(ta)] | sides[len(ta):])
         pairs = [pair for pair, keep in zip(pairs, seen) if keep]
     if not pairs:
         return None
