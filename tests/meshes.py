@@ -32,8 +32,7 @@ def uv_sphere(radius=1.0, rings=24, segments=48):
 
 
 def box(size=(1.0, 1.0, 1.0), center=(0.0, 0.0, 0.0), subdivisions=1):
-    """Axis-aligned box, each side an n x n grid.  Its faces point *inward* (an earlier docstring said
-    outward, and the generated interior of real_assets.py was built on that belief: see README)."""
+    """Axis-aligned box, each side an n x n grid, faces pointing outward."""
     n = subdivisions + 1
     s = np.linspace(-0.5, 0.5, n)
     u, v = np.meshgrid(s, s, indexing="ij")
@@ -46,7 +45,7 @@ def box(size=(1.0, 1.0, 1.0), center=(0.0, 0.0, 0.0), subdivisions=1):
             p = np.zeros((len(u), 3))
             p[:, axis] = 0.5 * sign
             p[:, a1], p[:, a2] = u, v
-            t = tri if sign > 0 else tri[:, ::-1]
+            t = tri[:, ::-1] if sign > 0 else tri
             triangles.append(t + sum(len(x) for x in positions))
             positions.append(p)
     positions = np.vstack(positions) * np.asarray(size) + np.asarray(center)

@@ -68,21 +68,44 @@ def visible_points(positions, triangles, count, seed=0, tolerance=1e-6):
 
 
 def hidden(positions, triangles, triangle, points, tolerance=1e-6):
-    """(k,) bool: whether each point (k, 3) of ``triangle`` (k,) lies on another, opposite-facing triangle
-    (within ``tolerance`` of the bounding-box diagonal)."""
+    """(k,) bool: whether each point (k, 3) of ``triangle`` (k,) can never be seen.
+
+    A point is hidden when it lies on another, opposite-facing triangle (within
+    ``tolerance`` of the bounding-box diagonal: a crate's bottom on the floor), or
+    inside another closed piece (a crate's corner inside the crate it overlaps):
+    every one of a few rays into its hemisphere first meets the back of a face.
+    """
     positions = np.asarray(positions, dtype=np.float64)
     triangles = np.asarray(triangles)
     corners = positions[triangles]
     cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     normal = cross / np.maximum(np.linalg.norm(cross, axis=1), 1e-300)[:, None]
     tree = BVHTree.FromPolygons(positions.tolist(), triangles.tolist(), all_triangles=True)
-    radius = tolerance * float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0)))
+    diagonal = float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0)))
+    radius = tolerance * diagonal
     out = np.zeros(len(points), dtype=bool)
     for k, (t, p) in enumerate(zip(np.asarray(triangle).tolist(), np.asarray(points).tolist())):
         own = Vector(normal[t].tolist())
-        out[k] = any(n.dot(own) < -0.99 for _, n, other, _ in tree.find_nearest_range(Vector(p), radius)
-                     if other != t)
+        out[k] = (any(n.dot(own) < -0.99 for _, n, other, _ in tree.find_nearest_range(Vector(p), radius)
+                      if other != t)
+                  or _enclosed(tree, np.asarray(p) + LIFT * diagonal * normal[t], normal[t]))
     return out
+
+
+def _enclosed(tree, origin, normal):
+    """Whether rays from ``origin`` along ``normal`` and six directions 60° off it all first meet a back face."""
+    tangent = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
+    tangent /= np.linalg.norm(tangent)
+    bitangent = np.cross(normal, tangent)
+    angle = np.arange(6) * np.pi / 3 + 0.1                           # off the axes, so no ray runs along a wall
+    directions = np.vstack([normal, 0.5 * normal + np.sqrt(0.75) * (np.outer(np.cos(angle), tangent)
+                                                                    + np.outer(np.sin(angle), bitangent))])
+    start = Vector(origin.tolist())
+    for d in directions.tolist():
+        hit, face_normal, _, _ = tree.ray_cast(start, Vector(d))
+        if hit is None or face_normal.dot(Vector(d)) <= 0.0:
+            return False
+    return True
 
 
 def reference_at_visible_points(mesh, count=500, rays=4096, seed=3):

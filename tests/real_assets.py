@@ -83,7 +83,7 @@ def arch(span, rise, thickness, depth, steps, center=(0.0, 0.0, 0.0), along_y=Fa
 
 
 def drape(width, height, folds, rows, cols, center=(0.0, 0.0, 0.0)):
-    """An open wavy curtain hanging in the XZ plane (one-sided sheet)."""
+    """An open wavy curtain hanging in the XZ plane (one-sided sheet, facing -Y)."""
     u = np.linspace(-0.5, 0.5, cols) * width
     v = np.linspace(0.0, 1.0, rows) * height
     U, V = np.meshgrid(u, v, indexing="ij")
@@ -124,7 +124,7 @@ def interior(seed=0):
         scene.add(*box(size=size, center=(x, y, 0.5 * size[2])))
     # drapes on the walls
     for x in np.linspace(-17.0, 17.0, 9):
-        for y, flip in ((-11.7, False), (11.7, True)):
+        for y, flip in ((-11.7, True), (11.7, False)):                  # facing into the hall
             positions, tris = drape(3.0, 7.0, 5, 24, 40, center=(x, y, 1.5))
             scene.add(positions, tris[:, ::-1] if flip else tris)
     return scene.mesh()

@@ -173,7 +173,9 @@ def test_cutting_keeps_each_piece_on_its_axis_and_every_face_in_a_chart():
 #: poles), finer than a 512² texel: no texture at 512² holds that (Cycles' own 512² bake is further
 #: off, see tests/bench/bench_assets.py and README "Generated real assets"), so flat it is held to
 #: the limits from 1024² on.
-ACCURACY_CASES = [(name, False, (1024,) if name == "noisy_scan" else (512, 1024))
+#: 512² is held where the image resolves the asset: not the hall (a 512² texel, 38 cm, is wider than its 20 cm floor
+#: slab and its wall overhang; bench_assets.py measures us 0.047 and Cycles 0.093 there) nor the flat noisy scan.
+ACCURACY_CASES = [(name, False, (1024,) if name in ("interior", "noisy_scan") else (512, 1024))
                   for name in sorted(real_assets.ASSETS)] + [("noisy_scan", True, (512, 1024))]
 RMSE_LIMIT, P99_LIMIT = 0.03, 0.12
 
