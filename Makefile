@@ -3,6 +3,7 @@
 #   make demo        set up .venv/5.0 and bake the built-in demo scene into out/
 #   make test        run the test suite on Blender 5.0, 4.2 LTS and 5.2 (bpy wheels)
 #   make test BLENDERS=5.0       ... on one Blender only
+#   make test-fast   only tests/core (numpy + mathutils, no Blender data) on Blender 5.0
 #   make bench       speed-against-error report (out/bench/)
 #   make extension   download the xatlas wheels and build the installable zips (dist/)
 #
@@ -33,10 +34,10 @@ WHEELHOUSE ?= $(shell python3 -m pip cache dir 2>/dev/null || echo $(HOME)/.cach
 venv_dir = .venv/$(1)
 venv_python = .venv/$(1)/bin/python
 
-.PHONY: help setup demo test test-one bench extension validate clean
+.PHONY: help setup demo test test-fast test-one bench extension validate clean
 
 help:
-	@sed -n '3,9p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '3,10p' Makefile | sed 's/^# \{0,1\}//'
 
 # .venv/<version>/.installed is rebuilt when the pins change.
 .venv/%/.installed: requirements/blender-%.txt
@@ -54,7 +55,7 @@ help:
 setup: .venv/$(BLENDER)/.installed
 
 demo: .venv/5.0/.installed
-	$(call venv_python,5.0) tests/demo.py --output-dir out
+	$(call venv_python,5.0) tests/scripts/demo.py --output-dir out
 
 test:
 	@for v in $(BLENDERS); do $(MAKE) --no-print-directory test-one BLENDER=$$v; done
@@ -62,6 +63,9 @@ test:
 test-one: .venv/$(BLENDER)/.installed wheels/.downloaded
 	@echo "== Blender $(BLENDER): pytest"
 	$(call venv_python,$(BLENDER)) -m pytest tests $(PYTEST_ARGS)
+
+test-fast: .venv/5.0/.installed
+	$(call venv_python,5.0) -m pytest tests/core $(PYTEST_ARGS)
 
 .venv/5.0/.bench: .venv/5.0/.installed requirements/bench.txt
 	.venv/5.0/bin/python -m pip download --quiet --only-binary=:all: -d "$(WHEELHOUSE)" -r requirements/bench.txt -r requirements/blender-5.0.txt

@@ -20,8 +20,10 @@ The package must be imported with relative imports only: Blender loads it as
 from . import operators, panels
 from .core.errors import BakeCancelled, SeamlessAOError
 from .core.settings import BakeSettings
-from .operators.api import BakeReport, bake, clear, set_preview
+from .operators.cleanup import clear
 from .operators.export import resample, to_color_attribute
+from .operators.preview import set_preview
+from .operators.session import BakeReport, bake
 
 __all__ = ["bake", "clear", "set_preview", "resample", "to_color_attribute", "BakeSettings", "BakeReport",
            "SeamlessAOError", "BakeCancelled"]

@@ -34,7 +34,7 @@ Adaptive sampling: the first quarter of the rays (at least 16; a stratified
 set of their own) are cast for every texel; where they all agree (all open,
 or with binary falloff all blocked), and the texel's neighbours in the atlas
 agree on the same answer, the texel keeps that value and the other rays are
-not cast (:class:`..pipeline.AOJob`).  Near an occlusion boundary some
+not cast (:class:`..job.AOJob`).  Near an occlusion boundary some
 neighbour disagrees, so those texels always get every ray.
 """
 
@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .mesh import mesh_size
 from .sampling import cone_directions, tangent_frames, texel_samples
 
 #: Ray origins are lifted this far (times the object size) off the surface.
@@ -70,6 +71,24 @@ class AOParams:
     def pilot_rays(self):
         """Rays cast for every texel before the adaptive decision (a stratified prefix of the sequence)."""
         return self.rays if not self.adaptive else min(self.rays, max(16, self.rays // 4))
+
+
+def ao_params(settings, positions, rays=None):
+    """:class:`AOParams` of a bake for an object whose vertices in ray space are ``positions`` (v, 3).
+
+    The object's size (bounding-box diagonal) sets the automatic maximum
+    distance (half of it) and the origin offset; the ground plane lies at the
+    lowest vertex.  ``settings`` is a :class:`..settings.BakeSettings`;
+    ``rays`` overrides its ray count.
+    """
+    size = mesh_size(positions)
+    return AOParams(
+        rays=settings.rays if rays is None else rays,
+        max_distance=0.5 * size if settings.auto_distance else settings.max_distance,
+        cone_angle=settings.cone_angle, falloff=settings.falloff, distribution=settings.distribution,
+        ignore_backfaces=settings.ignore_backfaces, horizon_bias=settings.horizon_bias,
+        adaptive=settings.adaptive, seed=settings.seed, offset=ORIGIN_OFFSET * size,
+        ground_height=float(np.min(positions[:, 2])) if settings.use_ground_plane else None)
 
 
 class BVHCaster:
@@ -271,10 +290,39 @@ def pilot_agreement(sums, params):
     return code
 
 
+def settle_pilot(sums, params, pilot_count, neighbours=None):
+    """The adaptive stop, after the pilot rays (the one place it is decided).
+
+    A point whose pilot rays all agree (all open, or with binary falloff all
+    blocked; :func:`pilot_agreement`) keeps that value for all its rays, if
+    ``neighbours(code)`` (optional: (k,) bool, e.g. the texel's atlas
+    neighbours agree too) allows it.
+
+    Parameters
+    ----------
+    sums : (k,) float64, occlusion summed over the pilot rays; the decided ones are scaled in place to
+        ``params.rays`` rays
+    params : AOParams
+    pilot_count : int, rays cast so far per point
+
+    Returns
+    -------
+    decided : (k,) bool, the points that need no more rays
+    """
+    if not params.adaptive:
+        return np.zeros(len(sums), dtype=bool)
+    code = pilot_agreement(sums, params)
+    decided = code > 0
+    if neighbours is not None and decided.any():
+        decided &= neighbours(code)
+    sums[decided] *= params.rays / pilot_count
+    return decided
+
+
 def shade(points, normals, geometric, texel_ids, params, caster, samples=texel_samples):
     """AO of some points (all in ray space), each point deciding alone when to stop early.
 
-    (:class:`..pipeline.AOJob` also asks a texel's neighbours before stopping.)
+    (:class:`..job.AOJob` also asks a texel's neighbours before stopping.)
 
     Returns
     -------
@@ -285,11 +333,8 @@ def shade(points, normals, geometric, texel_ids, params, caster, samples=texel_s
     rest = np.arange(params.pilot_rays, params.rays)
     total = occlusion_sums(points, normals, geometric, texel_ids, pilot, params, caster, samples)
     rays_cast = len(points) * len(pilot)
-    todo = np.arange(len(points))
     if len(rest):
-        decided = pilot_agreement(total, params) > 0 if params.adaptive else np.zeros(len(points), dtype=bool)
-        total[decided] *= params.rays / len(pilot)               # the agreed value, for all rays
-        todo = todo[~decided]
+        todo = np.flatnonzero(~settle_pilot(total, params, len(pilot)))
         total[todo] += occlusion_sums(points[todo], normals[todo], geometric[todo], texel_ids[todo], rest, params,
                                       caster, samples)
         rays_cast += len(todo) * len(rest)

@@ -27,7 +27,6 @@ from .graph import Adjacency, connected_components
 from .mesh import group_boxes
 from .overlap import fold_conflicts
 
-AXIS_NAMES = ("+X", "-X", "+Y", "-Y", "+Z", "-Z")
 #: (6, 3) unit vector of each signed axis.
 AXES = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64)
 #: (6, 2, 3) chart-plane basis (u, v) of each signed axis, with u x v = axis, so

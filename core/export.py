@@ -7,12 +7,12 @@ Both evaluate exactly what the ``Seamless AO`` node group shows (see
 import numpy as np
 
 from .blend import blended_ao
+from .fill import pull_push
 from .mesh import cross2d
 from .raster import closest_barycentric, rasterise_triangles
-from .pipeline import pull_push
 
 
-def shown_at(ao_image, layer_uv, corner_normals, triangle, bary):
+def shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength=1.0, interreflection=0.0):
     """The blend at surface points.
 
     Parameters
@@ -22,6 +22,8 @@ def shown_at(ao_image, layer_uv, corner_normals, triangle, bary):
     corner_normals : (t, 3, 3) float, object space
     triangle : (k,) int
     bary : (k, 3) float
+    strength, interreflection : float, or (t,) float per triangle
+        The node's inputs (its material's), see :func:`.blend.blended_ao`.
 
     Returns
     -------
@@ -29,10 +31,12 @@ def shown_at(ao_image, layer_uv, corner_normals, triangle, bary):
     """
     uv = np.einsum("kc,klcd->kld", bary, layer_uv[triangle])
     normals = np.einsum("kc,kcd->kd", bary, corner_normals[triangle])
-    return blended_ao(ao_image, uv, normals)
+    per_point = [value if np.isscalar(value) else np.asarray(value)[triangle] for value in (strength, interreflection)]
+    return blended_ao(ao_image, uv, normals, *per_point)
 
 
-def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=8, degenerate=None):
+def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=8, degenerate=None,
+                   strength=1.0, interreflection=0.0):
     """The blended AO laid out on another UV map (e.g. the user's unwrap).
 
     Parameters
@@ -47,6 +51,7 @@ def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=
         (bilinear filtering and mip-mapping at island borders do not bleed);
         the rest of the image is filled smoothly from them.
     degenerate : (t,) bool, optional, triangles to skip
+    strength, interreflection : float or (t,) float, the node's inputs (see :func:`shown_at`)
 
     Returns
     -------
@@ -61,7 +66,7 @@ def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=
     x = (texels.index % width).astype(np.float64) + 0.5
     y = (texels.index // width).astype(np.float64) + 0.5
     bary = np.stack(closest_barycentric(target[texels.member], x, y), axis=1)
-    values = shown_at(ao_image, layer_uv, corner_normals, texels.member, bary)
+    values = shown_at(ao_image, layer_uv, corner_normals, texels.member, bary, strength, interreflection)
     image = np.zeros(width * height)
     weight = np.zeros(width * height)
     image[texels.index] = values
@@ -72,9 +77,27 @@ def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=
     return filled.astype(np.float32), coverage.reshape(height, width)
 
 
-def corner_values(ao_image, layer_uv, corner_normals):
-    """The blend at every triangle corner: (t, 3) float64."""
+def corner_values(ao_image, layer_uv, corner_normals, strength=1.0, interreflection=0.0):
+    """The blend at every triangle corner: (t, 3) float64 (node inputs as in :func:`shown_at`)."""
     count = len(layer_uv)
     triangle = np.repeat(np.arange(count), 3)
     bary = np.tile(np.eye(3), (count, 1))
-    return shown_at(ao_image, layer_uv, corner_normals, triangle, bary).reshape(count, 3)
+    return shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength, interreflection).reshape(count, 3)
+
+
+def vertex_average(corner_values, corner_vertex, vertex_count):
+    """Per-vertex mean of per-corner values; 1 (open) for a vertex no corner uses.
+
+    Parameters
+    ----------
+    corner_values : (c,) float, one per face corner (loop)
+    corner_vertex : (c,) int, the vertex of each corner
+    vertex_count : int
+
+    Returns
+    -------
+    (vertex_count,) float64
+    """
+    total = np.bincount(corner_vertex, weights=corner_values, minlength=vertex_count)
+    count = np.bincount(corner_vertex, minlength=vertex_count)
+    return np.where(count > 0, total / np.maximum(count, 1), 1.0)

@@ -183,6 +183,20 @@ def mesh_size(positions):
     return size if size > 0.0 else 1.0
 
 
+def boxes_near(low, high, lows, highs, reach):
+    """(k,) bool: which boxes ``lows``, ``highs`` (k, 3) come within ``reach`` of the box ``low``..``high`` (3,)
+    (the shortest distance between the boxes, zero where they overlap)."""
+    gap = np.maximum(0.0, np.maximum(np.asarray(lows) - high, low - np.asarray(highs)))
+    return np.linalg.norm(gap, axis=1) <= reach
+
+
+def flattened(linear):
+    """Whether a linear map (3, 3) squashes space flat: its smallest singular value is under 1e-9 of its
+    largest (an object scaled to zero along an axis)."""
+    singular = np.linalg.svd(np.asarray(linear, dtype=np.float64), compute_uv=False)
+    return not singular[-1] > 1e-9 * singular[0]
+
+
 def sanitized_normals(corner_normals, triangle_normal):
     """Unit corner normals; zero, NaN or infinite ones replaced by the triangle's normal.
 

@@ -1,6 +1,6 @@
-"""Every bake setting, defined once.
+"""Every bake and export setting, defined once.
 
-:class:`BakeSettings` is the single source of truth: the scene's
+:class:`BakeSettings` (and :class:`ExportSettings`) is the single source of truth: the scene's
 ``PropertyGroup``, the operator's properties, the command line options and the
 Python API's keyword arguments are all generated from its fields, so names,
 defaults, limits and descriptions cannot drift apart.
@@ -52,70 +52,8 @@ SAVE_ITEMS = (
 )
 
 
-@dataclass
-class BakeSettings:
-    """All settings of one bake.  Angles are in degrees, distances in scene units."""
-
-    # -- rays ------------------------------------------------------------------
-    rays: int = _setting(64, "Rays", "Rays cast per texel (the thesis' default is 64)", min=1, max=4096)
-    auto_distance: bool = _setting(
-        True, "Automatic Distance",
-        "Use half the object's bounding-box diagonal as the maximum ray distance")
-    max_distance: float = _setting(
-        1.0, "Max Distance",
-        "Hits farther than this do not occlude (scene units, used when Automatic Distance is off)",
-        min=0.0, max=1.0e12, unit="scene units")
-    cone_angle: float = _setting(
-        90.0, "Cone Angle", "Half-angle of the cone around the normal that rays are cast in (90° = hemisphere)",
-        min=1.0, max=90.0, unit="°")
-    falloff: str = _setting("NONE", "Falloff", "How a hit's distance changes how much it occludes", items=FALLOFF_ITEMS)
-    distribution: str = _setting("COSINE", "Distribution", "How rays are spread inside the cone", items=DISTRIBUTION_ITEMS)
-    ignore_backfaces: bool = _setting(
-        False, "Ignore Back Faces",
-        "Rays pass through faces seen from behind (open scans and single-sided meshes)")
-    horizon_bias: float = _setting(
-        0.0, "Horizon Bias", "Hits of rays this close to the tangent plane fade out, hiding faceting on coarse smooth meshes",
-        min=0.0, max=45.0, unit="°")
-    adaptive: bool = _setting(
-        True, "Adaptive Sampling",
-        "Stop a texel after the first quarter of its rays when they and its neighbours' all agree "
-        "(all open or all blocked)")
-    denoise: bool = _setting(
-        True, "Denoise",
-        "Edge-aware filter over each texel's surface neighbours (never across creases or contact shadows)")
-    seed: int = _setting(0, "Seed", "Random seed; the same seed gives the same image", min=0, max=2**31 - 1)
-    use_scene_occluders: bool = _setting(
-        False, "Scene Occluders", "Other visible mesh objects of the scene also occlude (contact shadows)")
-    use_ground_plane: bool = _setting(
-        False, "Ground Plane", "An infinite horizontal plane at the object's lowest point occludes")
-    ray_caster: str = _setting("GEOMETRY_NODES", "Ray Caster", "How rays are cast (same BVH, same result)",
-                               items=CASTER_ITEMS)
-
-    # -- charts and image --------------------------------------------------------
-    compare_angle: float = _setting(
-        60.0, "Compare Angle",
-        "A face joins an axis chart when its normal is within this angle of the axis (more = more overlap)",
-        min=30.0, max=85.0, unit="°")
-    size_mode: str = _setting("IMAGE_SIZE", "Resolution By", "How the image resolution is chosen", items=SIZE_MODE_ITEMS)
-    image_size: int = _setting(1024, "Image Size", "Width and height of the AO image", min=256, max=8192, unit="texels")
-    texel_density: float = _setting(
-        256.0, "Texel Density", "Texels per scene unit (used when Resolution By is Texel Density)",
-        min=1.0e-6, max=1.0e9, unit="texels per scene unit")
-    padding: int = _setting(
-        4, "Padding", "Texels kept free between large charts and filled with AO, at most: with thousands of "
-        "pieces it shrinks to 2, and charts a few texels across share boxes with only the ring filtering reads",
-        min=2, max=32, unit="texels")
-    memory_budget_mb: int = _setting(
-        4096, "Memory Budget", "Refuse to start a bake estimated to need more memory than this",
-        min=64, max=1 << 20, unit="MB")
-
-    # -- output ------------------------------------------------------------------
-    hook_materials: bool = _setting(
-        True, "Multiply Into Materials",
-        "Multiply the AO into the Base Color of every Principled BSDF (off: only add the nodes)")
-    save_image: str = _setting("NONE", "Save Image", "Also write the image to a file next to the .blend", items=SAVE_ITEMS)
-
-    # ---------------------------------------------------------------------------
+class _Settings:
+    """Construction with validation, shared by :class:`BakeSettings` and :class:`ExportSettings`."""
 
     @classmethod
     def from_kwargs(cls, **kwargs):
@@ -150,11 +88,110 @@ class BakeSettings:
                 raise SeamlessAOError("{} must be at least {} (got {})".format(f.name, meta["min"], value))
             if "max" in meta and value > meta["max"]:
                 raise SeamlessAOError("{} must be at most {} (got {})".format(f.name, meta["max"], value))
+        return self
+
+
+@dataclass
+class BakeSettings(_Settings):
+    """All settings of one bake.  Angles are in degrees, distances in scene units."""
+
+    # -- rays ------------------------------------------------------------------
+    rays: int = _setting(64, "Rays", "Rays cast per texel (the thesis' default is 64)", min=1, max=4096)
+    auto_distance: bool = _setting(
+        True, "Automatic Distance",
+        "Use half the object's bounding-box diagonal as the maximum ray distance")
+    max_distance: float = _setting(
+        1.0, "Max Distance",
+        "Hits farther than this do not occlude (scene units, used when Automatic Distance is off)",
+        min=0.0, max=1.0e12, unit="scene units")
+    cone_angle: float = _setting(
+        90.0, "Cone Angle", "Half-angle of the cone around the normal that rays are cast in (90° = hemisphere)",
+        min=1.0, max=90.0, unit="°")
+    falloff: str = _setting("NONE", "Falloff", "How a hit's distance changes how much it occludes", items=FALLOFF_ITEMS)
+    distribution: str = _setting("COSINE", "Distribution", "How rays are spread inside the cone", items=DISTRIBUTION_ITEMS)
+    ignore_backfaces: bool = _setting(
+        False, "Ignore Back Faces",
+        "Rays pass through faces seen from behind (open scans and single-sided meshes)")
+    horizon_bias: float = _setting(
+        0.0, "Horizon Bias", "Hits of rays this close to the tangent plane fade out, hiding faceting on coarse smooth meshes",
+        min=0.0, max=45.0, unit="°")
+    adaptive: bool = _setting(
+        True, "Adaptive Sampling",
+        "Stop a texel after the first quarter of its rays when they and its neighbours' all agree "
+        "(all open or all blocked)")
+    denoise: bool = _setting(
+        True, "Denoise",
+        "Edge-aware filter over each texel's surface neighbours (little weight across creases and contact shadows)")
+    seed: int = _setting(0, "Seed", "Random seed; the same seed gives the same image", min=0, max=2**31 - 1)
+    use_scene_occluders: bool = _setting(
+        False, "Scene Occluders",
+        "Other visible mesh objects of the scene within the maximum ray distance also occlude (contact shadows)")
+    use_ground_plane: bool = _setting(
+        False, "Ground Plane", "An infinite horizontal plane at the object's lowest point occludes")
+    ray_caster: str = _setting("GEOMETRY_NODES", "Ray Caster", "How rays are cast (same BVH, same result)",
+                               items=CASTER_ITEMS)
+
+    # -- charts and image --------------------------------------------------------
+    compare_angle: float = _setting(
+        60.0, "Compare Angle",
+        "A face joins an axis chart when its normal is within this angle of the axis (more = more overlap)",
+        min=30.0, max=85.0, unit="°")
+    size_mode: str = _setting("IMAGE_SIZE", "Resolution By", "How the image resolution is chosen", items=SIZE_MODE_ITEMS)
+    image_size: int = _setting(1024, "Image Size", "Width and height of the AO image", min=256, max=8192, unit="texels")
+    texel_density: float = _setting(
+        256.0, "Texel Density", "Texels per scene unit (used when Resolution By is Texel Density)",
+        min=1.0e-6, max=1.0e9, unit="texels per scene unit")
+    padding: int = _setting(
+        4, "Padding", "Texels kept free between large charts and filled with AO, at most: with thousands of "
+        "pieces it shrinks to 2, and charts a few texels across share boxes with only the ring filtering reads",
+        min=2, max=32, unit="texels")
+    memory_budget_mb: int = _setting(
+        4096, "Memory Budget", "Refuse to start a bake estimated to need more memory than this",
+        min=64, max=1 << 20, unit="MB")
+
+    # -- output ------------------------------------------------------------------
+    hook_materials: bool = _setting(
+        True, "Multiply Into Materials",
+        "Multiply the AO into the Base Color of every Principled BSDF (off: only add the nodes)")
+    save_image: str = _setting("NONE", "Save Image", "Also write the image to a file next to the .blend", items=SAVE_ITEMS)
+
+    # ---------------------------------------------------------------------------
+
+    def validate(self):
+        super().validate()
         if not self.auto_distance and self.max_distance <= 0.0:
             raise SeamlessAOError(
                 "max_distance must be greater than 0 (got {}); turn on auto_distance to derive it "
                 "from the object's size".format(self.max_distance))
         return self
+
+
+DOMAIN_ITEMS = (
+    ("CORNER", "Face Corner", "One value per face corner (sharp where the AO is)"),
+    ("POINT", "Vertex", "One value per vertex (the corners averaged)"),
+)
+
+
+@dataclass
+class ExportSettings(_Settings):
+    """How the AO leaves Blender: resampled onto the object's own UV map, or as a colour attribute."""
+
+    uv_map: str = _setting("", "UV Map", "UV map to resample the AO onto (empty: the render-active one)")
+    size: int = _setting(1024, "Size", "Width and height of the resampled image", min=8, max=16384, unit="texels")
+    padding: int = _setting(8, "Padding", "Texels of dilation around every UV island", min=0, max=64,
+                            unit="texels")
+    gltf_occlusion: bool = _setting(
+        True, "glTF Occlusion", "Wire the resampled image into the materials as the glTF occlusion texture")
+    domain: str = _setting("CORNER", "Domain", "Where the colour attribute stores the AO", items=DOMAIN_ITEMS)
+    material_strength: bool = _setting(
+        True, "Material Strength",
+        "Apply the Strength and Interreflection set on each material's Seamless AO node, as the material shows "
+        "it (off: the AO as baked)")
+
+
+#: What each export writes, and which of :class:`ExportSettings` it reads.
+RESAMPLE_FIELDS = ("uv_map", "size", "padding", "gltf_occlusion", "material_strength")
+COLOR_FIELDS = ("domain", "material_strength")
 
 
 def _coerce(name, kind, value):
@@ -185,3 +222,8 @@ def _coerce(name, kind, value):
 def setting_fields():
     """The dataclass fields of :class:`BakeSettings`, in declaration order."""
     return dataclasses.fields(BakeSettings)
+
+
+def export_fields(names=None):
+    """The dataclass fields of :class:`ExportSettings` (those named in ``names``, if given)."""
+    return tuple(f for f in dataclasses.fields(ExportSettings) if names is None or f.name in names)

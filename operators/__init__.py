@@ -5,7 +5,8 @@ import bpy
 from . import cli, properties
 from .bake import OBJECT_OT_seamless_ao_bake
 from .clear import OBJECT_OT_seamless_ao_clear
-from .export_ops import OBJECT_OT_seamless_ao_resample, OBJECT_OT_seamless_ao_to_color
+from .resample import OBJECT_OT_seamless_ao_resample
+from .to_color import OBJECT_OT_seamless_ao_to_color
 
 classes = (OBJECT_OT_seamless_ao_bake, OBJECT_OT_seamless_ao_clear, OBJECT_OT_seamless_ao_resample,
            OBJECT_OT_seamless_ao_to_color)

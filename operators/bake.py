@@ -10,8 +10,9 @@ import traceback
 import bpy
 
 from ..core.errors import BakeCancelled, SeamlessAOError
-from . import api
+from .poll import poll_explained, selection_problem, target_objects
 from .properties import setting_annotations, settings_from
+from .session import BakeSession
 
 
 class OBJECT_OT_seamless_ao_bake(bpy.types.Operator):
@@ -25,11 +26,11 @@ class OBJECT_OT_seamless_ao_bake(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return api.poll_explained(cls, api.selection_problem(context))
+        return poll_explained(cls, selection_problem(context))
 
     def _session(self, context):
         settings = settings_from(context.scene.seamless_ao, overrides=self)
-        return api.BakeSession(api.target_objects(context), settings, scene=context.scene)
+        return BakeSession(target_objects(context), settings, scene=context.scene)
 
     def execute(self, context):
         try:

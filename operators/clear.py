@@ -2,7 +2,8 @@
 
 import bpy
 
-from . import api
+from .cleanup import clear
+from .poll import baked_selection_problem, poll_explained, target_objects
 
 
 class OBJECT_OT_seamless_ao_clear(bpy.types.Operator):
@@ -14,10 +15,10 @@ class OBJECT_OT_seamless_ao_clear(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return api.poll_explained(
-            cls, api.baked_selection_problem(context, "The selected meshes have no Seamless AO bake to clear"))
+        return poll_explained(
+            cls, baked_selection_problem(context, "The selected meshes have no Seamless AO bake to clear"))
 
     def execute(self, context):
-        count = api.clear(api.target_objects(context))
+        count = clear(target_objects(context))
         self.report({"INFO"}, "Cleared Seamless AO from {} object{}".format(count, "" if count == 1 else "s"))
         return {"FINISHED"}

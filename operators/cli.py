@@ -1,8 +1,9 @@
 """Headless use: ``blender --background scene.blend --command seamless_ao bake [options]``.
 
 Registered with ``bpy.utils.register_cli_command``.  Every bake setting is an
-option (``--rays 128``, ``--image-size 2048``, ``--ground-plane`` ...); options
-not given take the scene's saved Seamless AO settings.  Exit code 0 on
+option (``--rays 128``, ``--image-size 2048``, ``--ground-plane`` ...), and so is
+every export setting of the ``export`` command; options not given take the
+scene's saved Seamless AO settings.  Exit code 0 on
 success; otherwise a one-line reason on stderr and exit code 1 (2 for a bad
 command line).
 """
@@ -13,8 +14,11 @@ import sys
 import bpy
 
 from ..core.errors import SeamlessAOError
-from ..core.settings import setting_fields
-from . import api
+from ..core.settings import DOMAIN_ITEMS, RESAMPLE_FIELDS, export_fields, setting_fields
+from .cleanup import clear
+from .export import resample, to_color_attribute
+from .properties import scene_export_settings
+from .session import bake
 
 PROG = "blender --background FILE.blend --command seamless_ao"
 
@@ -26,37 +30,45 @@ def option_name(field_name):
 def build_parser():
     parser = argparse.ArgumentParser(prog=PROG, description="Seamless AO: seamless ambient occlusion bakes.")
     actions = parser.add_subparsers(dest="action", required=True)
-    bake = actions.add_parser("bake", help="bake AO for some mesh objects and (optionally) save the file")
-    clear = actions.add_parser("clear", help="remove what Seamless AO added to some mesh objects")
+    bake_parser = actions.add_parser("bake", help="bake AO for some mesh objects and (optionally) save the file")
+    clear_parser = actions.add_parser("clear", help="remove what Seamless AO added to some mesh objects")
     export_parser = actions.add_parser(
         "export", help="resample baked AO onto the objects' own UV map (glTF-ready) and/or a colour attribute")
-    export_parser.add_argument("--uv-map", metavar="NAME", help="target UV map (default: the render-active one)")
-    export_parser.add_argument("--size", type=int, default=1024, metavar="N", help="resampled image size")
-    export_parser.add_argument("--padding", type=int, default=8, metavar="N", help="island dilation in texels")
-    export_parser.add_argument("--gltf-occlusion", action=argparse.BooleanOptionalAction, default=True,
-                               help="wire the image in as the glTF occlusion texture")
+    add_options(export_parser, export_fields(RESAMPLE_FIELDS))
     export_parser.add_argument("--no-texture", action="store_true", help="skip the resampled texture")
-    export_parser.add_argument("--color-attribute", choices=["CORNER", "POINT"],
+    export_parser.add_argument("--color-attribute", choices=[item[0] for item in DOMAIN_ITEMS],
                                help="also write colour attribute 'AO' on this domain")
-    for sub in (bake, clear, export_parser):
+    for sub in (bake_parser, clear_parser, export_parser):
         sub.add_argument("--objects", nargs="+", metavar="NAME",
                          help="mesh objects to use (default: the selected meshes, else the active object)")
         output = sub.add_mutually_exclusive_group()
         output.add_argument("--save", action="store_true", help="save the .blend file in place afterwards")
         output.add_argument("--output", metavar="FILE.blend", help="save the result as a new .blend file")
-    for f in setting_fields():
+    add_options(bake_parser, setting_fields())
+    return parser
+
+
+def add_options(parser, fields):
+    """One option per settings field (``--image-size N``, ``--ground-plane/--no-ground-plane`` ...), each
+    defaulting to None: not given means the scene's saved setting."""
+    for f in fields:
         meta = f.metadata
         text = meta["description"]
         if "unit" in meta:
             text += " [{}]".format(meta["unit"])
         if isinstance(f.default, bool):
-            bake.add_argument(option_name(f.name), action=argparse.BooleanOptionalAction, default=None, help=text)
+            parser.add_argument(option_name(f.name), action=argparse.BooleanOptionalAction, default=None, help=text)
         elif "items" in meta:
-            bake.add_argument(option_name(f.name), choices=[item[0] for item in meta["items"]], default=None,
-                              help=text)
+            parser.add_argument(option_name(f.name), choices=[item[0] for item in meta["items"]], default=None,
+                                help=text)
         else:
-            bake.add_argument(option_name(f.name), type=type(f.default), default=None, metavar="N", help=text)
-    return parser
+            parser.add_argument(option_name(f.name), type=type(f.default), default=None,
+                                metavar="NAME" if isinstance(f.default, str) else "N", help=text)
+
+
+def given_options(args, fields):
+    """``{name: value}`` of the options the command line gave."""
+    return {f.name: getattr(args, f.name) for f in fields if getattr(args, f.name) is not None}
 
 
 def resolve_objects(names):
@@ -88,23 +100,25 @@ def run(argv):
     try:
         objects = resolve_objects(args.objects)
         if args.action == "bake":
-            given = {f.name: getattr(args, f.name) for f in setting_fields() if getattr(args, f.name) is not None}
+            given = given_options(args, setting_fields())
             if "max_distance" in given and "auto_distance" not in given:
                 given["auto_distance"] = False          # an explicit distance means: use it
-            report = api.bake(objects, progress=_print_progress, **given)    # the scene's settings, overridden
+            report = bake(objects, progress=_print_progress, **given)    # the scene's settings, overridden
             print(report.summary())
             for warning in report.warnings:
                 print("warning: " + warning)
         elif args.action == "export":
-            from . import export
+            settings = scene_export_settings(bpy.context.scene).replace(
+                **given_options(args, export_fields(RESAMPLE_FIELDS)))
             if not args.no_texture:
-                names = export.resample(objects, args.uv_map, args.size, args.padding, args.gltf_occlusion)
+                names = resample(objects, settings.uv_map or None, settings.size, settings.padding,
+                                 settings.gltf_occlusion, settings.material_strength)
                 print("Resampled AO into " + ", ".join(names))
             if args.color_attribute:
-                export.to_color_attribute(objects, args.color_attribute)
+                to_color_attribute(objects, args.color_attribute, settings.material_strength)
                 print("Wrote colour attribute 'AO' ({})".format(args.color_attribute.lower()))
         else:
-            count = api.clear(objects)
+            count = clear(objects)
             print("Cleared Seamless AO from {} object(s)".format(count))
         if args.save:
             if not bpy.data.filepath:

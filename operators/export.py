@@ -13,17 +13,14 @@ import bpy
 import numpy as np
 
 from ..core.errors import SeamlessAOError
-from ..core.export import corner_values, resample_to_uv
+from ..core.export import corner_values, resample_to_uv, vertex_average
+from ..core.settings import ExportSettings
 from ..shaders import material as material_nodes
-from .api import AO_LAYERS, IMAGE_KEY, OURS_KEY, evaluated_mesh_of
-from .mesh_data import read_triangles
+from .keys import AO_LAYERS, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_KEY, GLTF_GROUP, GLTF_NODES, IMAGE_KEY, OURS_KEY
+from .mesh_data import read_object
+from .writes import store_float_image
 
-COLOR_ATTRIBUTE = "AO"
-#: Custom properties marking what the export made (Clear removes it).
-EXPORT_KEY = "seamless_ao_export"            # on images and on the glTF group
-COLOR_KEY = "seamless_ao_color"              # on objects: the AO colour attribute is ours
-GLTF_GROUP = "glTF Material Output"
-GLTF_NODES = ("SeamlessAO glTF UV", "SeamlessAO glTF Image", "SeamlessAO glTF Split", "SeamlessAO glTF Output")
+DEFAULTS = ExportSettings()
 
 
 def _baked_inputs(ob):
@@ -34,17 +31,25 @@ def _baked_inputs(ob):
     image = bpy.data.images.get(ob.get(IMAGE_KEY, ""))
     if image is None or any(name not in mesh.uv_layers for name in AO_LAYERS):
         raise SeamlessAOError("'{}' has no Seamless AO bake; bake it first".format(ob.name))
-    evaluated, evaluated_mesh = evaluated_mesh_of(ob, bpy.context.evaluated_depsgraph_get())
-    try:
-        triangle_mesh, loops = read_triangles(evaluated_mesh)
-    finally:
-        evaluated.to_mesh_clear()
+    triangle_mesh, loops = read_object(ob, bpy.context.evaluated_depsgraph_get())
     width, height = image.size
     pixels = np.empty(width * height * 4, dtype=np.float32)
     image.pixels.foreach_get(pixels)
     ao_image = pixels.reshape(height, width, 4)[:, :, 0].astype(np.float64)
     layer_uv = np.stack([_loop_uv(mesh, name)[loops] for name in AO_LAYERS], axis=1)   # (t, 3, 3, 2)
     return ao_image, layer_uv, loops, triangle_mesh
+
+
+def node_inputs(ob, triangle_face, use):
+    """(strength (t,), interreflection (t,)) of each triangle: its face's material's ``Seamless AO`` node
+    inputs, or (1, 0) everywhere when ``use`` is off."""
+    if not use:
+        return 1.0, 0.0
+    per_slot = np.array([material_nodes.blend_inputs(slot.material) for slot in ob.material_slots] or [(1.0, 0.0)])
+    material_index = np.zeros(len(ob.data.polygons), dtype=np.int32)
+    ob.data.polygons.foreach_get("material_index", material_index)
+    slot = np.clip(material_index[triangle_face], 0, len(per_slot) - 1)
+    return per_slot[slot, 0], per_slot[slot, 1]
 
 
 def _loop_uv(mesh, name):
@@ -72,7 +77,8 @@ def own_uv_map(ob, name=None):
     raise SeamlessAOError("'{}' has no UV map of its own to resample onto; unwrap it first".format(ob.name))
 
 
-def resample(objects, uv_map=None, size=1024, padding=8, gltf_occlusion=True):
+def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
+             gltf_occlusion=DEFAULTS.gltf_occlusion, material_strength=DEFAULTS.material_strength):
     """Write each object's blended AO into a new image on one of its own UV maps.
 
     Parameters
@@ -85,47 +91,30 @@ def resample(objects, uv_map=None, size=1024, padding=8, gltf_occlusion=True):
         Also wire the image into every material through a "glTF Material
         Output" group's Occlusion input, so Blender's glTF exporter writes it
         as the material's ``occlusionTexture``.
+    material_strength : bool
+        Apply each material's Strength and Interreflection (the ``Seamless AO``
+        node's inputs), so the texture shows what the material shows.
 
     Returns
     -------
     list of image names (``<object>_AO_<uv map>``)
     """
-    if not 8 <= int(size) <= 16384:
-        raise SeamlessAOError("size must be between 8 and 16384 (got {})".format(size))
+    settings = ExportSettings.from_kwargs(uv_map=uv_map or "", size=size, padding=padding,
+                                          gltf_occlusion=gltf_occlusion, material_strength=material_strength)
     names = []
     for ob in objects:
-        target = own_uv_map(ob, uv_map)
+        target = own_uv_map(ob, settings.uv_map or None)
         ao_image, layer_uv, loops, mesh = _baked_inputs(ob)
         target_uv = _loop_uv(ob.data, target)[loops]
-        values, _ = resample_to_uv(ao_image, layer_uv, mesh.corner_normals, target_uv, int(size), int(padding),
-                                   mesh.degenerate)
-        image = _store_image("{}_AO_{}".format(ob.name, target), values)
-        if gltf_occlusion:
+        values, _ = resample_to_uv(ao_image, layer_uv, mesh.corner_normals, target_uv, settings.size,
+                                   settings.padding, mesh.degenerate,
+                                   *node_inputs(ob, mesh.triangle_face, settings.material_strength))
+        image, _ = store_float_image("{}_AO_{}".format(ob.name, target), values, marks=(OURS_KEY, EXPORT_KEY))
+        if settings.gltf_occlusion:
             for material in {s.material for s in ob.material_slots if s.material is not None}:
                 hook_gltf_occlusion(material, image, target)
         names.append(image.name)
     return names
-
-
-def _store_image(name, values):
-    height, width = values.shape
-    image = bpy.data.images.get(name)
-    if image is None or not image.get(OURS_KEY):
-        image = bpy.data.images.new(name, width, height, alpha=False, float_buffer=True)
-        image[OURS_KEY] = True
-        image[EXPORT_KEY] = True
-    else:
-        image.source = "GENERATED"
-        image.generated_width, image.generated_height = width, height
-        image.use_generated_float = True
-    if image.colorspace_settings.name != "Non-Color":
-        image.colorspace_settings.name = "Non-Color"
-    pixels = np.empty((height * width, 4), dtype=np.float32)
-    pixels[:, :3] = values.reshape(-1, 1)
-    pixels[:, 3] = 1.0
-    image.pixels.foreach_set(pixels.ravel())
-    image.pack()
-    return image
 
 
 def _gltf_group():
@@ -168,25 +157,24 @@ def hook_gltf_occlusion(material, image, uv_map):
     links.new(split.outputs["Red"], output.inputs["Occlusion"])
 
 
-def to_color_attribute(objects, domain="CORNER"):
+def to_color_attribute(objects, domain=DEFAULTS.domain, material_strength=DEFAULTS.material_strength):
     """Write each object's blended AO into a colour attribute ``AO`` (face corners or points).
 
     Point values average the object's corners at each vertex.
     """
-    if domain not in ("CORNER", "POINT"):
-        raise SeamlessAOError("domain must be CORNER or POINT (got {!r})".format(domain))
+    settings = ExportSettings.from_kwargs(domain=domain, material_strength=material_strength)
+    domain = settings.domain
     for ob in objects:
         ao_image, layer_uv, loops, mesh = _baked_inputs(ob)
-        values = corner_values(ao_image, layer_uv, mesh.corner_normals)       # (t, 3)
+        values = corner_values(ao_image, layer_uv, mesh.corner_normals,
+                               *node_inputs(ob, mesh.triangle_face, settings.material_strength))   # (t, 3)
         data = ob.data
         per_loop = np.ones(len(data.loops))
         per_loop[loops.ravel()] = values.ravel()
         if domain == "POINT":
             vertex = np.empty(len(data.loops), dtype=np.int32)
             data.loops.foreach_get("vertex_index", vertex)
-            total = np.bincount(vertex, weights=per_loop, minlength=len(data.vertices))
-            count = np.bincount(vertex, minlength=len(data.vertices))
-            per_element = np.where(count > 0, total / np.maximum(count, 1), 1.0)
+            per_element = vertex_average(per_loop, vertex, len(data.vertices))
         else:
             per_element = per_loop
         existing = data.color_attributes.get(COLOR_ATTRIBUTE)

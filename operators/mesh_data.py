@@ -1,8 +1,11 @@
-"""Read Blender meshes into the core's arrays, and write UV maps back."""
+"""Read Blender meshes into the core's arrays: the baked objects (modifiers applied) and scene occluders."""
+
+import contextlib
 
 import numpy as np
 
-from ..core.mesh import TriangleMesh
+from ..core.errors import SeamlessAOError
+from ..core.mesh import TriangleMesh, boxes_near
 
 
 def read_triangles(mesh):
@@ -39,3 +42,62 @@ def read_triangles(mesh):
         face_count=len(mesh.polygons),
     )
     return triangle_mesh, loops
+
+
+@contextlib.contextmanager
+def evaluated_mesh(ob, depsgraph):
+    """``with evaluated_mesh(ob, depsgraph) as mesh``: ``ob``'s mesh with modifiers applied, freed on exit."""
+    evaluated = ob.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        yield mesh
+    finally:
+        evaluated.to_mesh_clear()
+
+
+def read_object(ob, depsgraph):
+    """:func:`read_triangles` of ``ob``'s evaluated mesh, whose loops must be its own mesh's (the UV maps
+    are written there): a clear error if the modifiers change the topology."""
+    with evaluated_mesh(ob, depsgraph) as mesh:
+        base = ob.data
+        if (len(mesh.vertices), len(mesh.loops), len(mesh.polygons)) != (
+                len(base.vertices), len(base.loops), len(base.polygons)):
+            changing = [m.name for m in ob.modifiers if m.show_viewport] or ["(geometry nodes or shape)"]
+            raise SeamlessAOError(
+                "'{}': the modifiers {} change the mesh's topology, so the AO UV maps could not follow them; "
+                "apply them or turn them off in the viewport (deforming modifiers are fine)".format(
+                    ob.name, ", ".join(changing)))
+        return read_triangles(mesh)
+
+
+def scene_occluders(scene, depsgraph, exclude, low, high, reach):
+    """(world positions (v, 3) float64, triangles (t, 3) int64) of every visible mesh of the scene but
+    ``exclude`` whose bounds come within ``reach`` (the maximum ray distance) of the world box
+    ``low``..``high`` (3,) of what is baked: farther ones cannot occlude, so they are not even read."""
+    for other in near_objects(scene, depsgraph, exclude, low, high, reach):
+        with evaluated_mesh(other, depsgraph) as mesh:
+            mesh.calc_loop_triangles()
+            count = len(mesh.loop_triangles)
+            if not count:
+                continue
+            co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+            mesh.vertices.foreach_get("co", co)
+            tris = np.empty(count * 3, dtype=np.int32)
+            mesh.loop_triangles.foreach_get("vertices", tris)
+        matrix = np.array(other.matrix_world, dtype=np.float64)
+        world = co.reshape(-1, 3).astype(np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
+        yield world, tris.reshape(-1, 3).astype(np.int64)
+
+
+def near_objects(scene, depsgraph, exclude, low, high, reach):
+    """The visible mesh objects of ``scene`` but ``exclude`` whose world bounding boxes come within
+    ``reach`` of the box ``low``..``high``."""
+    candidates = [other for other in scene.objects
+                  if other is not exclude and other.type == "MESH" and other.visible_get()]
+    if not candidates:
+        return []
+    corners = np.array([other.evaluated_get(depsgraph).bound_box for other in candidates], dtype=np.float64)
+    matrices = np.array([other.matrix_world for other in candidates], dtype=np.float64)          # (k, 4, 4)
+    world = np.einsum("kij,kcj->kci", matrices[:, :3, :3], corners) + matrices[:, None, :3, 3]
+    near = boxes_near(low, high, world.min(axis=1), world.max(axis=1), reach)
+    return [other for other, keep in zip(candidates, near) if keep]

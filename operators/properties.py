@@ -1,26 +1,29 @@
-"""Blender properties generated from :class:`core.settings.BakeSettings`.
+"""Blender properties generated from :mod:`core.settings` (bake and export settings).
 
 One ``PropertyGroup`` on the scene (``scene.seamless_ao``) holds the settings
-the panel shows; the bake operator has properties of the same names, and a
-script that sets one of them overrides the scene's value for that call.
+the panel shows (export ones prefixed ``export_``); the operators have
+properties of the same names, and a script that sets one of them overrides the
+scene's value for that call.
 """
-
-import dataclasses
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from ..core.settings import BakeSettings, setting_fields
+from ..core.settings import BakeSettings, ExportSettings, export_fields, setting_fields
+from .poll import has_bake
+from .preview import set_preview
 
 
 def blender_property(f):
-    """A ``bpy.props`` definition for one :class:`BakeSettings` field."""
+    """A ``bpy.props`` definition for one settings field (of :class:`BakeSettings` or ``ExportSettings``)."""
     meta = f.metadata
     common = dict(name=meta["label"], description=meta["description"], default=f.default)
     if "items" in meta:
         return EnumProperty(items=meta["items"], **common)
     if isinstance(f.default, bool):
         return BoolProperty(**common)
+    if isinstance(f.default, str):
+        return StringProperty(**common)
     limits = {key: meta[key] for key in ("min", "max") if key in meta}
     if isinstance(f.default, int):
         return IntProperty(**common, **limits)
@@ -30,6 +33,18 @@ def blender_property(f):
 def setting_annotations():
     """``{name: property}`` for every bake setting."""
     return {f.name: blender_property(f) for f in setting_fields()}
+
+
+def export_annotations(names=None, prefix=""):
+    """``{prefix + name: property}`` for the export settings (those in ``names``, if given)."""
+    return {prefix + f.name: blender_property(f) for f in export_fields(names)}
+
+
+def fill_from_scene(operator, props, names, prefix="export_"):
+    """Give each of the operator's properties ``names`` that the caller did not set the scene's value."""
+    for name in names:
+        if not operator.properties.is_property_set(name):
+            setattr(operator, name, getattr(props, prefix + name))
 
 
 def settings_from(source, overrides=None):
@@ -45,10 +60,16 @@ def settings_from(source, overrides=None):
     return BakeSettings.from_kwargs(**values)
 
 
+def scene_export_settings(scene):
+    """:class:`ExportSettings` saved on the scene (the defaults if the add-on's properties are not there)."""
+    props = getattr(scene, "seamless_ao", None)
+    if props is None:
+        return ExportSettings()
+    return ExportSettings.from_kwargs(**{f.name: getattr(props, "export_" + f.name) for f in export_fields()})
+
+
 def _preview_changed(self, context):
-    from . import api
-    scene = context.scene
-    api.set_preview([ob for ob in scene.objects if api.has_bake(ob)], self.preview)
+    set_preview([ob for ob in context.scene.objects if has_bake(ob)], self.preview)
 
 
 def _stats_annotations():
@@ -63,19 +84,6 @@ def _stats_annotations():
         "last_bake_noise": FloatProperty(
             name="Noise", description="Expected noise of the last bake's AO before denoising (one standard "
             "deviation, for independent rays; stratified rays and the denoiser do better)", default=0.0),
-        "export_uv_map": StringProperty(
-            name="UV Map", description="UV map to resample the AO onto (empty: the render-active one)", default=""),
-        "export_size": IntProperty(name="Size", description="Width and height of the resampled image",
-                                   default=1024, min=8, max=16384),
-        "export_padding": IntProperty(name="Padding", description="Texels of dilation around every UV island",
-                                      default=8, min=0, max=64),
-        "export_gltf_occlusion": BoolProperty(
-            name="glTF Occlusion", default=True,
-            description="Wire the resampled image into the materials as the glTF occlusion texture"),
-        "export_domain": EnumProperty(
-            name="Domain", default="CORNER",
-            items=(("CORNER", "Face Corner", "One value per face corner"),
-                   ("POINT", "Vertex", "One value per vertex (the corners averaged)"))),
         "preview": BoolProperty(
             name="Preview AO Only",
             description="Show only the baked AO on the baked objects' materials (emission), to judge it",
@@ -87,7 +95,7 @@ SeamlessAOSettings = type(
     "SeamlessAOSettings",
     (bpy.types.PropertyGroup,),
     {
-        "__annotations__": {**setting_annotations(), **_stats_annotations()},
+        "__annotations__": {**setting_annotations(), **export_annotations(prefix="export_"), **_stats_annotations()},
         "__doc__": "Seamless AO bake settings of this scene",
     },
 )
@@ -101,8 +109,3 @@ def register():
 def unregister():
     del bpy.types.Scene.seamless_ao
     bpy.utils.unregister_class(SeamlessAOSettings)
-
-
-def settings_dict(settings):
-    """Plain ``dict`` of a :class:`BakeSettings`, for reports and logs."""
-    return dataclasses.asdict(settings)

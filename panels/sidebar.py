@@ -103,7 +103,7 @@ class VIEW3D_PT_seamless_ao_export(SubPanel, bpy.types.Panel):
             column.prop_search(settings, "export_uv_map", ob.data, "uv_layers")
         else:
             column.prop(settings, "export_uv_map")
-        for name in ("export_size", "export_padding", "export_gltf_occlusion"):
+        for name in ("export_size", "export_padding", "export_gltf_occlusion", "export_material_strength"):
             column.prop(settings, name)
         column.operator("object.seamless_ao_resample", icon="UV")
         column.separator()

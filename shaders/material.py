@@ -55,6 +55,16 @@ def is_ours(node):
     return node.name.startswith(PREFIX)
 
 
+def blend_inputs(material):
+    """(Strength, Interreflection) set on the material's ``Seamless AO`` node: what its output applies to
+    the baked AO.  (1, 0), the AO as baked, where the material has no such node; an input driven by a
+    link counts with its unlinked value."""
+    node = material.node_tree.nodes.get(BLEND) if material is not None and material.node_tree else None
+    if node is None or node.bl_idname != "ShaderNodeGroup":
+        return 1.0, 0.0
+    return float(node.inputs["Strength"].default_value), float(node.inputs["Interreflection"].default_value)
+
+
 def _socket(sockets, identifier):
     return next(s for s in sockets if s.identifier == identifier)
 

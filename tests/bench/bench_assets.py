@@ -2,8 +2,8 @@
 
     .venv/5.0/bin/python tests/bench/bench_assets.py [--assets interior noisy_scan ...]
 
-For each asset of tests/real_assets.py (flat shaded, as generated) and the
-noisy scan once more shaded smooth: the plain reference (tests/plain_reference.py,
+For each asset of tests/support/real_assets.py (flat shaded, as generated) and the
+noisy scan once more shaded smooth: the plain reference (tests/support/plain_reference.py,
 4,096 rays at 500 visible points, sharing no code with either baker), then
 Cycles (Smart UV Project + "Bake > Ambient Occlusion", 64 samples) and Seamless
 AO (32 rays) at 512² and 1024², each timed and measured on what its material
@@ -15,7 +15,6 @@ medians) is report.py's.
 """
 
 import argparse
-import pathlib
 import sys
 
 from common import markdown_table
@@ -23,7 +22,6 @@ from common import markdown_table
 import bpy
 import numpy as np
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
 import real_assets  # noqa: E402
 from accuracy import errors, shown_seamless, shown_single_uv  # noqa: E402
 from blender_checks import uv_layer_array  # noqa: E402

@@ -2,7 +2,7 @@
 
     .venv/5.0/bin/python tests/bench/bench_atlas.py [--sizes 256 512 1024] [--spheres 250000 1000000]
 
-Meshes: the generated real-asset set (tests/real_assets.py: an interior of
+Meshes: the generated real-asset set (tests/support/real_assets.py: an interior of
 1,000+ pieces, a holed 100k-triangle scan, 10,000 chips, a 1:1000 beam) and
 bumpy spheres of the given triangle counts.  Prints time per stage, peak numpy
 memory, utilisation, texel density and xatlas runs, then whether issue 13's
@@ -11,13 +11,10 @@ targets are met: charts + pack + rasterise <= 1.0 s at 250k triangles and
 """
 
 import argparse
-import pathlib
-import sys
 import time
 
 from common import Stopwatch, markdown_table
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
 import real_assets  # noqa: E402
 from bench_clustering import bumpy_sphere  # noqa: E402
 from seamless_ao.core import packing  # noqa: E402

@@ -7,7 +7,7 @@ the interpolated normal leans far from the face near sharp vertices, so part
 of a cosine lobe around it points below the face.  Three ways to treat those
 rays, all evaluated at the same visible surface points with many rays:
 
-* the plain reference (tests/plain_reference.py): cast them as they are;
+* the plain reference (tests/support/plain_reference.py): cast them as they are;
 * Seamless AO's estimator at the point itself (no texture), with and
   without its mirroring of such rays back above the face;
 * Cycles' "Bake > Ambient Occlusion" at 1024² and 256 samples, looked up
@@ -19,7 +19,6 @@ Prints the RMSE between every pair, for the smooth and the flat-shaded mesh
 """
 
 import argparse
-import pathlib
 import sys
 
 from common import markdown_table
@@ -27,13 +26,12 @@ from common import markdown_table
 import bpy
 import numpy as np
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
 from accuracy import reference_ao, shown_single_uv, surface_samples  # noqa: E402
 from blender_scenes import suzanne  # noqa: E402
 from cycles_baseline import UV_NAME, cycles_ao_bake  # noqa: E402
 from seamless_ao.core import ao as ao_module  # noqa: E402
 from seamless_ao.core.settings import BakeSettings  # noqa: E402
-from seamless_ao.operators.api import ray_setup  # noqa: E402
+from seamless_ao.operators.casters import ray_setup  # noqa: E402
 from seamless_ao.operators.mesh_data import read_triangles  # noqa: E402
 
 PACKAGE = sys.modules["seamless_ao"]

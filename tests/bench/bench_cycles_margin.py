@@ -3,7 +3,7 @@
     .venv/5.0/bin/python tests/bench/bench_cycles_margin.py [--margins 1.536 2 4] [--size 512] [--samples 64]
 
 Bakes Suzanne (subdivided twice) and the 1,300-piece interior of
-tests/real_assets.py with Cycles at one size and sample count, for several
+tests/support/real_assets.py with Cycles at one size and sample count, for several
 island margins given in texels of that image, and prints the RMSE and 99th
 percentile against the plain reference at 1,000 visible points.  Too small a
 margin lets a lookup at an island's border read its neighbour; too large
@@ -11,15 +11,12 @@ shrinks every island.  report.py uses cycles_baseline.ISLAND_MARGIN_TEXELS.
 """
 
 import argparse
-import pathlib
-import sys
 
 from common import markdown_table
 
 import bpy
 import numpy as np
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
 import cycles_baseline  # noqa: E402
 import real_assets  # noqa: E402
 from accuracy import errors, reference_ao, shown_single_uv, surface_samples  # noqa: E402

@@ -16,10 +16,10 @@ from common import process_peak_mb
 
 import bpy
 
-import conftest
+import package
 from bench_clustering import bumpy_sphere
 from blender_checks import image_array, uv_layer_array
-from blender_scenes import add_object, mesh_from_arrays
+from blender_scenes import add_object
 
 
 def main():
@@ -29,7 +29,7 @@ def main():
     parser.add_argument("--rays", type=int, default=16)
     args = parser.parse_args()
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    conftest.seamless_ao.register()
+    package.seamless_ao.register()
     positions, triangles = bumpy_sphere(args.triangles)
     mesh = bpy.data.meshes.new("Million")
     mesh.vertices.add(len(positions))
@@ -41,7 +41,7 @@ def main():
     mesh.update()
     ob = add_object("Million", mesh)
     start = time.perf_counter()
-    report = conftest.seamless_ao.bake([ob], image_size=args.image_size, rays=args.rays)
+    report = package.seamless_ao.bake([ob], image_size=args.image_size, rays=args.rays)
     seconds = time.perf_counter() - start
     values = image_array(bpy.data.images[report.image])
     finite = np.isfinite(values).all() and all(np.isfinite(uv_layer_array(ob.data, n)).all()
@@ -54,4 +54,4 @@ def main():
 
 
 if __name__ == "__main__":
-    conftest.hard_exit(main())
+    package.hard_exit(main())

@@ -21,18 +21,18 @@ from common import markdown_table
 
 import bpy
 
-import conftest
+import package
 from blender_scenes import suzanne
 from seamless_ao.core.ao import AOParams, BVHCaster, occlusion_sums, ray_space
 from seamless_ao.core.pipeline import build_layout
 from seamless_ao.core.raster import texel_geometry
 from seamless_ao.operators.mesh_data import read_triangles
-from seamless_ao.operators.raycast_nodes import NodesCaster
+from seamless_ao.operators.casters import NodesCaster
 
 
 def main():
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    conftest.seamless_ao.register()
+    package.seamless_ao.register()
     ob = suzanne(2)
     mesh, _ = read_triangles(ob.data)
     centre, to_ray = ray_space(mesh.positions, np.eye(3))
@@ -64,7 +64,7 @@ def main():
             caster.free()
         print("measured:", name, file=sys.stderr, flush=True)
     start = time.perf_counter()
-    report = conftest.seamless_ao.bake([ob], image_size=1024, rays=64)
+    report = package.seamless_ao.bake([ob], image_size=1024, rays=64)
     seconds = time.perf_counter() - start
     print(markdown_table(["strategy", "M rays/s (casting only)", "M rays/s (whole AO path)"], rows))
     print()
@@ -76,4 +76,4 @@ def main():
 
 if __name__ == "__main__":
     main()
-    conftest.hard_exit(0)
+    package.hard_exit(0)

@@ -5,9 +5,9 @@ import sys
 import time
 import tracemalloc
 
-sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parent.parent))
+sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parent.parent / "support"))
 
-import conftest  # noqa: E402,F401  (imports bpy and the package as ``seamless_ao``)
+import package  # noqa: E402,F401  (imports bpy and the add-on as ``seamless_ao``)
 
 
 class Stopwatch:

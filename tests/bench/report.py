@@ -2,7 +2,7 @@
 
     make bench          (= .venv/5.0/bin/python tests/bench/report.py --output-dir out/bench)
 
-For each mesh it computes the plain reference (tests/plain_reference.py: no
+For each mesh it computes the plain reference (tests/support/plain_reference.py: no
 code shared with either baker) at random visible surface points with many
 rays (cached on disk, keyed by the mesh, the points and the reference's code;
 the maximum distance is fixed: half the object's diagonal), then bakes with Seamless AO and with Cycles at several
@@ -29,7 +29,6 @@ import argparse
 import hashlib
 import json
 import pathlib
-import sys
 import time
 
 import numpy as np
@@ -42,12 +41,11 @@ from accuracy import errors, reference_ao, shown_seamless, shown_single_uv, surf
 from blender_scenes import cornell_box, sphere_over_plane, suzanne
 from cycles_baseline import UV_NAME, cycles_ao_bake
 from plain_reference import hidden
-from seamless_ao.core.settings import BakeSettings
 from seamless_ao.operators.mesh_data import read_triangles
 
-import conftest  # noqa: F401
+import package
 
-PACKAGE = conftest.seamless_ao
+PACKAGE = package.seamless_ao
 REFERENCE_RAYS = 4096
 POINTS = 2000
 SEAM_EDGES = 150
@@ -61,7 +59,6 @@ RAW_RUNS = [(512, 16), (1024, 16)]
 
 
 def spiral_ramp_object():
-    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
     from meshes import spiral_ramp
     from blender_scenes import add_object, mesh_from_arrays
     positions, triangles = spiral_ramp(turns=3.0, steps_per_turn=64, width_steps=6)
@@ -69,8 +66,7 @@ def spiral_ramp_object():
 
 
 def interior_object():
-    """The generated interior of 1,300+ pieces (tests/real_assets.py): the kind of scene that used to fail to pack."""
-    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
+    """The generated interior of 1,300+ pieces (tests/support/real_assets.py): the kind of scene that used to fail to pack."""
     from real_assets import interior
     from blender_scenes import add_object, mesh_from_arrays
     positions, triangles = interior()
@@ -105,8 +101,8 @@ def fresh(mesh_name):
 
 def mesh_key(mesh):
     """Cache key of a reference: the mesh, the points, the rays and the reference's own code."""
-    code = (pathlib.Path(__file__).resolve().parent.parent / "plain_reference.py").read_bytes()
-    code += (pathlib.Path(__file__).resolve().parent.parent / "accuracy.py").read_bytes()
+    code = (pathlib.Path(__file__).resolve().parent.parent / "support" / "plain_reference.py").read_bytes()
+    code += (pathlib.Path(__file__).resolve().parent.parent / "support" / "accuracy.py").read_bytes()
     digest = hashlib.sha1(mesh.positions.tobytes() + mesh.triangles.tobytes() + code).hexdigest()[:12]
     return "{}-{}-{}".format(digest, POINTS, REFERENCE_RAYS)
 
@@ -395,16 +391,46 @@ def plot(curves, path):
     fig.savefig(path, dpi=110)
 
 
+def time_to_cycles_error(curves):
+    """Issue 14's table: per mesh and Cycles level, the cheapest Seamless AO run (denoised, as by default)
+    at least as accurate as Cycles, its time and its time over Cycles'.  ``curves[(mesh, method)]`` holds
+    ``[seconds, RMSE, "size/rays"]`` per run."""
+    meshes = list(dict.fromkeys(mesh for mesh, _ in curves))
+    levels = max(([label for _, _, label in curves[(mesh, "Cycles")]] for mesh in meshes), key=len)
+    rows = []
+    for mesh in meshes:
+        ours = sorted(curves.get((mesh, "Seamless AO"), []))
+        cycles = {label: (seconds, rmse) for seconds, rmse, label in curves[(mesh, "Cycles")]}
+        row = [mesh]
+        for label in levels:
+            if label not in cycles:
+                row.append("-")
+                continue
+            seconds, rmse = cycles[label]
+            good = [run for run in ours if run[1] <= rmse]
+            if good:
+                row.append("{}: {:.2f} s, ×{:.2f}".format(good[0][2].replace("/", "²/"), good[0][0],
+                                                          good[0][0] / seconds))
+            else:
+                best = min(ours, key=lambda run: run[1])
+                row.append("none (best {}: {:.4f} against {:.4f} in {:.2f} s)".format(
+                    best[2].replace("/", "²/"), best[1], rmse, best[0]))
+        rows.append(row)
+    return markdown_table(["mesh"] + ["Cycles " + level.replace("/", "², ") for level in levels], rows)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--output-dir", default="out/bench")
     parser.add_argument("--meshes", nargs="+", default=list(MESHES))
-    parser.add_argument("--plot-only", action="store_true", help="redraw the plot from curves.json")
+    parser.add_argument("--plot-only", action="store_true",
+                        help="redraw the plot and print the time-to-error table from curves.json")
     args = parser.parse_args()
     out = pathlib.Path(args.output_dir).resolve()
     if args.plot_only:
         curves = {tuple(k.split("|")): v for k, v in json.loads((out / "curves.json").read_text()).items()}
         plot(curves, out / "speed_error.png")
+        print(time_to_cycles_error(curves))
         return
     cache = out / "cache"
     cache.mkdir(parents=True, exist_ok=True)
@@ -420,6 +446,7 @@ def main():
                                                  bpy.app.version_string)
     text = "Speed against error on {}; {} reference rays at {} points per mesh; total {:.0f} s.\n\n{}\n".format(
         machine, REFERENCE_RAYS, POINTS, time.perf_counter() - started, table)
+    text += "\nTime to Cycles' error:\n\n" + time_to_cycles_error(curves) + "\n"
     (out / "report.md").write_text(text)
     (out / "curves.json").write_text(json.dumps({"|".join(k): v for k, v in curves.items()}))
     plot(curves, out / "speed_error.png")
@@ -429,4 +456,4 @@ def main():
 
 if __name__ == "__main__":
     main()
-    conftest.hard_exit(0)
+    package.hard_exit(0)

@@ -1,0 +1,104 @@
+"""Benchmark: the memory budget's estimate against the measured peak (issue 16, item 3).
+
+    .venv/5.0/bin/python tests/bench/bench_memory.py [--cases suzanne interior ...]
+
+Each case bakes in a process of its own (16 rays): the mesh is built, the
+process's resident memory noted, the bake run, and the growth of the peak
+resident memory over that noted level compared with what the bake estimated
+before it started (``core/budget.py``, from triangles, image pixels and
+texels).  Prints one table; the estimate should stay within ±30%.
+"""
+
+import argparse
+import json
+import pathlib
+import subprocess
+import sys
+
+from common import markdown_table
+
+CASES = {                     # name: (mesh, image size)
+    "suzanne-512": ("suzanne", 512),
+    "suzanne-1024": ("suzanne", 1024),
+    "interior-1024": ("interior", 1024),
+    "noisy_scan-1024": ("noisy_scan", 1024),
+    "chips-1024": ("chips", 1024),
+    "dense-250k-1024": ("bumpy-250000", 1024),
+    "dense-1M-1024": ("bumpy-1000000", 1024),
+    "suzanne-2048": ("suzanne", 2048),
+}
+
+
+def resident_mb():
+    for line in open("/proc/self/status"):
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024.0
+    return 0.0
+
+
+def measure(mesh_name, image_size):
+    """In this process: (estimated MB, measured MB, triangles, texels)."""
+    import resource
+
+    import bpy
+
+    import package
+    from bench_clustering import bumpy_sphere
+    from blender_scenes import add_object, mesh_from_arrays, suzanne
+    from real_assets import ASSETS
+    from seamless_ao.core import budget
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    package.seamless_ao.register()
+    if mesh_name == "suzanne":
+        ob = suzanne(2)
+    else:
+        positions, triangles = (bumpy_sphere(int(mesh_name.split("-")[1])) if mesh_name.startswith("bumpy")
+                                else ASSETS[mesh_name]())
+        ob = add_object(mesh_name, mesh_from_arrays(mesh_name, positions, triangles))
+    estimates = []
+    original = budget.check_budget
+
+    def noting(settings, triangles, pixels, texels):
+        estimates.append(budget.estimated_bytes(triangles, texels, pixels) / 2**20)
+        return original(settings, triangles, pixels, texels)
+    budget_check = sys.modules["seamless_ao.operators.session"]
+    budget_check.check_budget = noting
+    before = resident_mb()
+    peak_before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    report = package.seamless_ao.bake([ob], image_size=image_size, rays=16)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    return dict(first_estimate=estimates[0], layout_estimate=estimates[-1], measured=peak - before,
+                peak_before=peak_before, before=before, triangles=sum(len(p.polygons) for p in [ob.data]),
+                texels=report.texels)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cases", nargs="+", default=list(CASES))
+    parser.add_argument("--one", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.one:
+        print("RESULT " + json.dumps(measure(*CASES[args.one])), flush=True)
+        return
+    rows = []
+    for name in args.cases:
+        proc = subprocess.run([sys.executable, str(pathlib.Path(__file__).resolve()), "--one", name],
+                              capture_output=True, text=True, timeout=3600)
+        lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
+        if proc.returncode != 0 or not lines:
+            rows.append([name, "failed: " + (proc.stderr.strip().splitlines() or ["?"])[-1], "", "", "", "", ""])
+            continue
+        r = json.loads(lines[-1][len("RESULT "):])
+        rows.append([name, "{:,}".format(r["triangles"]), "{:,}".format(r["texels"]),
+                     "{:,.0f}".format(r["first_estimate"]), "{:,.0f}".format(r["layout_estimate"]),
+                     "{:,.0f}".format(r["measured"]), "{:+.0%}".format(r["layout_estimate"] / r["measured"] - 1.0)])
+        print(name, r, file=sys.stderr, flush=True)
+    print(markdown_table(["case", "faces", "texels", "estimate before layout MB", "estimate after layout MB",
+                          "measured peak growth MB", "estimate vs measured"], rows))
+
+
+if __name__ == "__main__":
+    main()
+    import package
+    package.hard_exit(0)

@@ -1,0 +1,50 @@
+"""The Geometry Nodes ray caster (operators/casters.py) against a closed form and, hit for hit, against
+core's BVHTree caster."""
+
+import numpy as np
+
+from blender_scenes import suzanne
+from seamless_ao.core.ao import BVHCaster
+from seamless_ao.operators.casters import NodesCaster
+from seamless_ao.operators.mesh_data import read_triangles
+
+
+def test_nodes_caster_hits_a_plane_where_the_closed_form_says(fresh_scene):
+    """Rays from z = 0 to a plane z = 1 facing down: distance 1 / cos(theta), front face; the plane is
+    missed by rays longer than the maximum distance."""
+    positions = np.array([[-50.0, -50.0, 1.0], [-50.0, 50.0, 1.0], [50.0, 50.0, 1.0], [50.0, -50.0, 1.0]])
+    caster = NodesCaster(positions, np.array([[0, 1, 2], [0, 2, 3]]))
+    try:
+        rng = np.random.default_rng(0)
+        cos_theta = rng.uniform(0.2, 1.0, 500)
+        angle = rng.uniform(0.0, 2 * np.pi, 500)
+        sin_theta = np.sqrt(1 - cos_theta**2)
+        directions = np.stack([sin_theta * np.cos(angle), sin_theta * np.sin(angle), cos_theta], axis=1)
+        origins = np.column_stack([rng.uniform(-1, 1, (500, 2)), np.zeros(500)])
+        distance, facing = caster.cast(origins, directions, 3.0)
+        reach = 1.0 / cos_theta <= 3.0
+        assert np.allclose(distance[reach], 1.0 / cos_theta[reach], rtol=1e-5)
+        assert np.isinf(distance[~reach]).all() and (~reach).sum() > 50
+        assert (facing[reach] < 0).all()                                  # hit from the front
+    finally:
+        caster.free()
+
+
+def test_nodes_caster_agrees_with_the_bvh_caster_hit_for_hit(fresh_scene):
+    mesh, _ = read_triangles(suzanne(1).data)
+    rng = np.random.default_rng(1)
+    origins = rng.uniform(-1.5, 1.5, (4000, 3))
+    directions = rng.normal(size=(4000, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    nodes = NodesCaster(mesh.positions, mesh.triangles)
+    try:
+        distance, facing = nodes.cast(origins, directions, 2.0)
+    finally:
+        nodes.free()
+    expected_distance, expected_facing = BVHCaster(mesh.positions, mesh.triangles).cast(origins, directions, 2.0)
+    hit = np.isfinite(expected_distance)
+    assert 500 < hit.sum() < 3500
+    agree = (np.isfinite(distance) == hit)
+    agree[hit] &= np.isclose(distance[hit], expected_distance[hit], rtol=1e-4, atol=1e-5)
+    agree[hit] &= np.sign(facing[hit]) == np.sign(expected_facing[hit])
+    assert agree.mean() > 0.999, agree.mean()                  # a ray grazing an edge may go either way

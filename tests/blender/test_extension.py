@@ -1,0 +1,108 @@
+"""The add-on as Blender sees it: manifest, built zip, install, enable/disable."""
+
+import json
+import pathlib
+import re
+import subprocess
+import sys
+import tomllib
+import zipfile
+
+import bpy
+import pytest
+
+from package import ROOT, run_script, seamless_ao
+
+
+def blender_ext_tool():
+    scripts = pathlib.Path(bpy.utils.system_resource("SCRIPTS"))
+    tool = scripts / "addons_core" / "bl_pkg" / "cli" / "blender_ext.py"
+    assert tool.is_file(), "blender_ext.py not found in the bpy wheel at {}".format(tool)
+    return tool
+
+
+def run_tool(*args):
+    return subprocess.run(
+        [sys.executable, str(blender_ext_tool()), *args], cwd=ROOT, capture_output=True, text=True, timeout=300)
+
+
+def manifest():
+    with open(ROOT / "blender_manifest.toml", "rb") as handle:
+        return tomllib.load(handle)
+
+
+def test_manifest_validates():
+    proc = run_tool("validate", str(ROOT))
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_manifest_identity_and_license():
+    data = manifest()
+    assert data["id"] == "seamless_ao"
+    assert data["name"] == "Seamless AO"
+    assert data["blender_version_min"] == "4.2.0"
+    assert data["license"] == ["SPDX:GPL-3.0-or-later"]
+
+
+def test_manifest_wheels_cover_every_platform_and_python():
+    """One xatlas wheel per listed platform, for Python 3.11 and 3.13 each."""
+    data = manifest()
+    tags = {"linux-x64": "manylinux", "windows-x64": "win_amd64", "macos-arm64": "macosx_11_0_arm64"}
+    assert sorted(data["platforms"]) == sorted(tags)
+    wheels = [pathlib.PurePosixPath(w).name for w in data["wheels"]]
+    for platform, tag in tags.items():
+        for py in ("cp311", "cp313"):
+            assert any(py in w and tag in w for w in wheels), (platform, py, wheels)
+
+
+def test_wheels_listed_are_downloaded():
+    """`make extension` (and `make test`) download exactly the listed wheels."""
+    missing = [w for w in manifest()["wheels"] if not (ROOT / w).is_file()]
+    assert not missing, "run `make wheels/.downloaded`; missing: {}".format(missing)
+
+
+@pytest.fixture(scope="module")
+def built_zip(tmp_path_factory):
+    out = tmp_path_factory.mktemp("dist")
+    proc = run_tool("build", "--source-dir", str(ROOT), "--output-dir", str(out), "--split-platforms")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    zips = sorted(out.glob("*.zip"))
+    assert len(zips) == 3, zips
+    return next(z for z in zips if "linux" in z.name)
+
+
+def test_zip_contains_the_package_and_not_the_tests(built_zip):
+    names = zipfile.ZipFile(built_zip).namelist()
+    assert "blender_manifest.toml" in names
+    assert "__init__.py" in names
+    assert "LICENSE" in names
+    assert not any(n.endswith(".downloaded") for n in names)
+    assert any(n.startswith("core/") for n in names)
+    assert not any(n.startswith(("tests/", ".git", ".venv", "out/")) for n in names), names
+    python = "cp{}{}".format(*sys.version_info[:2])
+    assert any(re.search(r"wheels/xatlas-.*{}.*manylinux".format(python), n) for n in names), names
+
+
+def test_zip_installs_enables_and_round_trips(built_zip):
+    proc = run_script("install_zip.py", str(built_zip))
+    lines = [l for l in proc.stdout.splitlines() if l.startswith("RESULT ")]
+    assert proc.returncode == 0 and lines, proc.stdout[-4000:] + proc.stderr[-4000:]
+    result = json.loads(lines[-1][len("RESULT "):])
+    assert result["install"] == ["FINISHED"]
+    assert result["enabled_after_install"]
+    assert result["operator_after_install"]
+    assert result["scene_property"]
+    assert result["bundled_xatlas"], "the xatlas wheel was not unpacked on install"
+    assert result["cycle"] == [["disabled", False], ["enabled", True]] * 2
+
+
+def test_register_unregister_repeatedly_leaks_nothing():
+    before = set(dir(bpy.types))
+    for _ in range(3):
+        seamless_ao.register()
+        assert hasattr(bpy.types, "OBJECT_OT_seamless_ao_bake")
+        assert hasattr(bpy.types.Scene, "seamless_ao")
+        seamless_ao.unregister()
+        assert not hasattr(bpy.types, "OBJECT_OT_seamless_ao_bake")
+        assert not hasattr(bpy.types.Scene, "seamless_ao")
+    assert set(dir(bpy.types)) == before

@@ -1,0 +1,86 @@
+"""Issue 4: charts to one packed atlas with exact texel points and normals."""
+
+import numpy as np
+import pytest
+
+import meshes
+from layout_checks import check_layers_do_not_overlap, check_lookups, check_texels_finite
+from seamless_ao.core.errors import SeamlessAOError
+from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.pipeline import build_layout
+from seamless_ao.core.raster import COVERED
+
+
+@pytest.mark.parametrize("make", [
+    lambda: meshes.uv_sphere(rings=24, segments=48),
+    lambda: meshes.torus(),
+    lambda: meshes.spiral_ramp(turns=2.0),
+    lambda: meshes.box(size=(1.0, 1.0, 1e-4), subdivisions=2),
+], ids=["sphere", "torus", "ramp", "thin-plate"])
+def test_generated_meshes(make):
+    mesh = TriangleMesh.from_triangles(*make(), smooth=True)
+    layout = build_layout(mesh, image_size=256)
+    check_lookups(layout, np.random.default_rng(2))
+    check_layers_do_not_overlap(layout)
+    check_texels_finite(layout)
+
+
+def test_cube_texel_count_matches_area_at_density():
+    density = 40.0
+    mesh = TriangleMesh.from_triangles(*meshes.box(size=(1.0, 2.0, 0.5), subdivisions=3))
+    layout = build_layout(mesh, density=density)
+    atlas, texels = layout.atlas, layout.texels
+    covered = texels.kind == COVERED
+    face_of_texel = mesh.triangle_face[atlas.member_triangle[texels.member[covered]]]
+    normal_axis = np.argmax(np.abs(mesh.face_normal), axis=1)[face_of_texel] * 2 + (
+        mesh.face_normal[face_of_texel].max(axis=1) < 0.5)
+    counts = np.bincount(normal_axis, minlength=6)
+    side_area = {0: 2.0 * 0.5, 2: 1.0 * 0.5, 4: 1.0 * 2.0}
+    side_perimeter = {0: 2.0 + 0.5, 2: 1.0 + 0.5, 4: 1.0 + 2.0}
+    # the packed density may differ slightly from the request; use each chart's own scale
+    for signed in range(6):
+        chart = np.flatnonzero(layout.charts.chart_axis == signed)[0]
+        member = np.flatnonzero(atlas.member_chart == chart)
+        local_area = mesh.triangle_area[atlas.member_triangle[member]].sum()
+        uv = atlas.member_uv[member]
+        texel_area = 0.5 * np.abs((uv[:, 1, 0] - uv[:, 0, 0]) * (uv[:, 2, 1] - uv[:, 0, 1])
+                                  - (uv[:, 2, 0] - uv[:, 0, 0]) * (uv[:, 1, 1] - uv[:, 0, 1])).sum()
+        chart_density = np.sqrt(texel_area / local_area)
+        expected = side_area[signed - signed % 2] * chart_density**2
+        assert abs(chart_density / density - 1) < 0.1
+        perimeter_texels = 2 * side_perimeter[signed - signed % 2] * chart_density
+        # centres on a chart's border count as covered: up to half a perimeter extra
+        assert abs(counts[signed] - expected) <= 0.5 * perimeter_texels + 4, (signed, counts[signed], expected)
+
+
+def test_slivers_and_zero_area_triangles_leave_no_holes():
+    rng = np.random.default_rng(3)
+    positions, triangles = meshes.box(subdivisions=2)
+    n = len(positions)
+    # a fan of slivers (aspect ratio about 1e6) on a plate above the box, plus zero-area triangles
+    fan_centre = np.array([0.0, 0.0, 1.0])
+    angles = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    rim = np.stack([np.cos(angles), np.sin(angles), np.ones_like(angles)], 1) * [0.8, 0.8, 1.0]
+    sliver = np.array([[0.0, 0.0, 1.0], [0.9, 0.0, 1.0], [0.9, 1e-6, 1.0]]) + [0.0, 1.5, 0.0]
+    extra_positions = np.vstack([fan_centre, rim, sliver, [[0, 3, 1], [0.5, 3, 1], [1, 3, 1]]])
+    k = np.arange(len(angles))
+    fan = np.stack([np.full(len(k), n), n + 1 + k, n + 1 + (k + 1) % len(k)], 1)
+    s = n + 1 + len(angles)
+    extra = np.vstack([fan, [[s, s + 1, s + 2]], [[s + 3, s + 4, s + 5]], [[s, s, s + 1]]])
+    mesh = TriangleMesh.from_triangles(np.vstack([positions, extra_positions]), np.vstack([triangles, extra]))
+    assert mesh.degenerate.sum() == 2
+    layout = build_layout(mesh, image_size=256)
+    check_lookups(layout, rng, per_triangle=True)
+    check_texels_finite(layout)
+
+
+def test_explicit_density_too_large_is_refused():
+    mesh = TriangleMesh.from_triangles(*meshes.box())
+    with pytest.raises(SeamlessAOError, match="lower the density"):
+        build_layout(mesh, density=1e5)
+
+
+def test_empty_mesh_is_refused():
+    mesh = TriangleMesh(np.zeros((3, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3, 3)))
+    with pytest.raises(SeamlessAOError, match="no faces"):
+        build_layout(mesh)

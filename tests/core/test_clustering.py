@@ -1,0 +1,150 @@
+"""Issue 3: adjacency and overlapping signed-axis clustering with injective charts."""
+
+import numpy as np
+import pytest
+
+import meshes
+from layout_checks import check_charts, overlaps_per_axis
+from seamless_ao.core.adjacency import face_adjacency
+from seamless_ao.core.clustering import cluster_faces, signed_axis_clusters
+from seamless_ao.core.mesh import TriangleMesh
+
+
+def test_sphere_charts_and_overlap_at_45_degrees():
+    mesh = TriangleMesh.from_triangles(*meshes.uv_sphere(rings=32, segments=64), smooth=True)
+    _, charts = check_charts(mesh)
+    assert charts.count == 6
+    normals = mesh.face_normal
+    diagonal = np.abs(np.abs(normals[:, 0]) - np.abs(normals[:, 2])) < 0.12
+    diagonal &= np.abs(normals[:, 1]) < 0.15
+    assert diagonal.sum() > 10
+    charts_per_face = (charts.chart_of_face >= 0).sum(axis=1)
+    assert (charts_per_face[diagonal] == 2).all(), "faces at 45 degrees between X and Z must be in two charts"
+    polar = np.abs(normals[:, 2]) > 0.99
+    assert (charts_per_face[polar] == 1).all()
+
+
+def test_cube_one_chart_per_side():
+    mesh = TriangleMesh.from_triangles(*meshes.box(subdivisions=4))
+    _, charts = check_charts(mesh)
+    assert sorted(charts.chart_axis.tolist()) == [0, 1, 2, 3, 4, 5]
+
+
+def test_torus():
+    check_charts(TriangleMesh.from_triangles(*meshes.torus(), smooth=True))
+
+
+@pytest.mark.parametrize("angle", [30.0, 45.0, 60.0, 75.0, 85.0])
+def test_compare_angle_range(angle):
+    mesh = TriangleMesh.from_triangles(*meshes.torus(rings=32, segments=16), smooth=True)
+    _, charts = check_charts(mesh, angle)
+    overlap = (charts.chart_of_face >= 0).sum(axis=1).mean()
+    assert 1.0 <= overlap <= 3.0
+
+
+def test_more_overlap_with_wider_compare_angle():
+    mesh = TriangleMesh.from_triangles(*meshes.uv_sphere(), smooth=True)
+    topology = face_adjacency(mesh)
+    mean = [(cluster_faces(mesh, topology, a).chart_of_face >= 0).sum(1).mean() for a in (40.0, 60.0, 80.0)]
+    assert mean[0] < mean[1] < mean[2]
+
+
+def test_thin_plate_front_and_back_never_share_a_chart():
+    mesh = TriangleMesh.from_triangles(*meshes.box(size=(1.0, 1.0, 1e-4), subdivisions=3))
+    _, charts = check_charts(mesh)
+    normals = mesh.face_normal
+    top, bottom = normals[:, 2] > 0.99, normals[:, 2] < -0.99
+    z_top = set(charts.chart_of_face[top, 2].tolist())
+    z_bottom = set(charts.chart_of_face[bottom, 2].tolist())
+    assert z_top.isdisjoint(z_bottom)
+    assert -1 not in z_top | z_bottom
+
+
+def test_spiral_ramp_is_split_until_injective():
+    mesh = TriangleMesh.from_triangles(*meshes.spiral_ramp(turns=3.0))
+    topology = face_adjacency(mesh)
+    raw = signed_axis_clusters(mesh, topology)
+    assert overlaps_per_axis(mesh, topology, raw)[2] > 0, "the test mesh must fold in the Z projection"
+    _, charts = check_charts(mesh)
+    assert charts.splits > 0
+
+
+def test_helix_surface_folding_in_projection():
+    # A wide, gently twisting helical strip: the +Z charts wind round more than once.
+    mesh = TriangleMesh.from_triangles(*meshes.helicoid_strip(turns=3.0, width=0.6, pitch=0.2))
+    check_charts(mesh)
+    mesh = TriangleMesh.from_triangles(*meshes.spiral_ramp(turns=5.0, inner=0.0, pitch=0.1, thickness=0.01))
+    check_charts(mesh)
+
+
+def test_non_manifold_fin():
+    positions, triangles = meshes.box(subdivisions=2)
+    # a fin standing on the top side (the first 9 vertices of the +Z side are its grid),
+    # sharing its bottom edges with the top grid's middle line x = 0
+    top_first = 4 * 9
+    top_middle = [top_first + i for i in range(9)
+                  if abs(positions[top_first + i][0]) < 1e-9 and abs(positions[top_first + i][2] - 0.5) < 1e-9]
+    top_middle = sorted(top_middle, key=lambda i: positions[i][1])
+    assert len(top_middle) == 3
+    a, b = top_middle[0], top_middle[-1]
+    extra = np.array([[positions[a][0], positions[a][1], 1.0], [positions[b][0], positions[b][1], 1.0]])
+    c, d = len(positions), len(positions) + 1
+    positions = np.vstack([positions, extra])
+    mid = top_middle[1]
+    fin = np.array([[a, mid, c], [mid, b, d], [mid, d, c]])
+    mesh = TriangleMesh.from_triangles(positions, np.vstack([triangles, fin]))
+    topology, _ = check_charts(mesh)
+    assert topology.report.non_manifold_edges == 2
+
+
+def test_split_vertices_cluster_like_welded():
+    positions, triangles = meshes.uv_sphere(rings=16, segments=32)
+    welded = TriangleMesh.from_triangles(positions, triangles)
+    split = TriangleMesh.from_triangles(*meshes.split_vertices(positions, triangles))
+    topology, charts = check_charts(split)
+    assert topology.report.welded_vertices == len(positions)
+    reference = cluster_faces(welded, face_adjacency(welded))
+    assert np.array_equal(charts.chart_of_face, reference.chart_of_face)
+
+
+def test_zero_area_duplicate_and_isolated_triangles():
+    positions, triangles = meshes.box(subdivisions=2)
+    n = len(positions)
+    positions = np.vstack([positions, [[0, 0, 0], [1e-3, 0, 0], [2e-3, 0, 0], [5, 5, 5], [6, 5, 5], [5, 6, 5]]])
+    extra = np.array([
+        [n, n + 1, n + 2],                  # collinear: zero area
+        [triangles[0][0], triangles[0][0], triangles[0][1]],   # repeated vertex: zero area
+        triangles[3],                        # duplicate
+        [n + 3, n + 4, n + 5],               # isolated
+    ])
+    mesh = TriangleMesh.from_triangles(positions, np.vstack([triangles, extra]))
+    topology, charts = check_charts(mesh)
+    report = topology.report
+    assert report.degenerate_triangles == 2
+    assert report.duplicate_triangles == 1
+    assert report.isolated_faces >= 1
+    assert report.loose_vertices == 0
+
+
+def test_loose_vertices_are_counted():
+    positions, triangles = meshes.box()
+    mesh = TriangleMesh.from_triangles(np.vstack([positions, [[9, 9, 9]]]), triangles)
+    assert face_adjacency(mesh).report.loose_vertices == 1
+
+
+def test_deterministic():
+    mesh = TriangleMesh.from_triangles(*meshes.spiral_ramp(turns=2.0))
+    first = cluster_faces(mesh, face_adjacency(mesh))
+    second = cluster_faces(mesh, face_adjacency(mesh))
+    assert np.array_equal(first.chart_of_face, second.chart_of_face)
+    assert np.array_equal(first.chart_axis, second.chart_axis)
+
+
+def test_n_gon_faces_stay_whole():
+    """Triangles of one polygon always share their charts (UVs are stored per face corner)."""
+    positions, triangles = meshes.uv_sphere(rings=12, segments=24)
+    face = np.arange(len(triangles)) // 2          # pair triangles into quads-ish faces
+    mesh = TriangleMesh(positions, triangles, face, np.zeros((len(triangles), 3, 3)))
+    charts = cluster_faces(mesh, face_adjacency(mesh))
+    per_triangle = charts.chart_of_face[mesh.triangle_face]
+    assert per_triangle.shape == (len(triangles), 3)

@@ -1,0 +1,92 @@
+"""The small pure functions moved out of the Blender side (issue 15): PNG encoding, vertex averaging,
+the memory estimate, a bake's ray parameters, the one adaptive stop, export settings."""
+
+import struct
+import zlib
+
+import numpy as np
+import pytest
+
+from seamless_ao.core.ao import AOParams, ao_params, settle_pilot
+from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
+from seamless_ao.core.errors import SeamlessAOError
+from seamless_ao.core.export import vertex_average
+from seamless_ao.core.png import png16
+from seamless_ao.core.settings import BakeSettings, ExportSettings
+
+
+def decode_png16(data):
+    """(height, width) uint16 of a greyscale 16-bit PNG with filter 0 rows (what png16 writes)."""
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    position, chunks = 8, {}
+    while position < len(data):
+        length, = struct.unpack(">I", data[position:position + 4])
+        kind = data[position + 4:position + 8]
+        payload = data[position + 8:position + 8 + length]
+        crc, = struct.unpack(">I", data[position + 8 + length:position + 12 + length])
+        assert crc == zlib.crc32(kind + payload)
+        chunks[kind] = chunks.get(kind, b"") + payload
+        position += 12 + length
+    width, height, depth, colour = struct.unpack(">IIBB", chunks[b"IHDR"][:10])
+    assert (depth, colour) == (16, 0)
+    raw = np.frombuffer(zlib.decompress(chunks[b"IDAT"]), dtype=np.uint8).reshape(height, 1 + 2 * width)
+    assert (raw[:, 0] == 0).all()
+    return raw[:, 1:].copy().view(">u2").astype(np.uint16)
+
+
+def test_png16_round_trips_with_blenders_row_order():
+    values = np.random.default_rng(0).random((5, 7))
+    values[0, 0], values[4, 6] = -0.5, 1.5                  # clipped
+    decoded = decode_png16(png16(values))
+    expected = np.round(np.clip(values, 0.0, 1.0) * 65535.0)[::-1]     # PNG's first row is the top
+    assert decoded.shape == (5, 7) and np.array_equal(decoded, expected)
+
+
+def test_vertex_average_means_corners_and_leaves_unused_vertices_open():
+    corner_values = np.array([0.2, 0.4, 0.9, 0.0])
+    corner_vertex = np.array([0, 0, 2, 2])
+    assert np.allclose(vertex_average(corner_values, corner_vertex, 4), [0.3, 1.0, 0.45, 1.0])
+
+
+def test_memory_estimate_grows_with_texels_and_pixels_and_is_refused_over_the_budget():
+    settings = BakeSettings(image_size=1024)
+    pixels, texels = planned_size(settings, surface_area=123.0)
+    assert pixels == 1024**2 and texels < pixels                      # the image size, whatever the area
+    dense = BakeSettings(size_mode="DENSITY", texel_density=100.0)
+    assert planned_size(dense, 2.0)[0] == pytest.approx(2 * planned_size(dense, 1.0)[0])
+    assert estimated_bytes(1000, 2 * texels, pixels) > estimated_bytes(1000, texels, pixels)
+    assert estimated_bytes(2000, texels, pixels) > estimated_bytes(1000, texels, pixels)
+    check_budget(settings, 1000, pixels, texels)
+    with pytest.raises(SeamlessAOError, match="memory budget of 64 MB"):
+        check_budget(BakeSettings(memory_budget_mb=64), 1000, pixels, texels)
+
+
+def test_ao_params_follow_the_objects_size_and_lowest_point():
+    positions = np.array([[0.0, 0.0, -2.0], [3.0, 4.0, 10.0], [1.0, 1.0, 1.0]])
+    size = np.linalg.norm([3.0, 4.0, 12.0])
+    params = ao_params(BakeSettings(rays=32, use_ground_plane=True), positions)
+    assert params.rays == 32 and params.max_distance == pytest.approx(0.5 * size)
+    assert params.offset == pytest.approx(1e-5 * size) and params.ground_height == -2.0
+    fixed = ao_params(BakeSettings(auto_distance=False, max_distance=0.25), positions, rays=4)
+    assert fixed.max_distance == 0.25 and fixed.rays == 4 and fixed.ground_height is None
+
+
+def test_settle_pilot_stops_only_agreeing_points_and_scales_them_to_every_ray():
+    params = AOParams(rays=64)                                       # 16 pilot rays
+    sums = np.array([0.0, 16.0, 5.0, 0.0])
+    decided = settle_pilot(sums, params, 16, neighbours=lambda code: np.array([True, True, True, False]))
+    assert decided.tolist() == [True, True, False, False]
+    assert sums.tolist() == [0.0, 64.0, 5.0, 0.0]
+    unchanged = np.array([0.0, 16.0])
+    assert not settle_pilot(unchanged, AOParams(rays=64, adaptive=False), 16).any()
+    assert unchanged.tolist() == [0.0, 16.0]
+
+
+def test_export_settings_are_validated_like_bake_settings():
+    assert ExportSettings().size == 1024 and ExportSettings().domain == "CORNER"
+    with pytest.raises(SeamlessAOError, match="size must be at least 8"):
+        ExportSettings.from_kwargs(size=4)
+    with pytest.raises(SeamlessAOError, match="domain must be one of CORNER, POINT"):
+        ExportSettings.from_kwargs(domain="FACE")
+    with pytest.raises(SeamlessAOError, match="Unknown setting"):
+        ExportSettings.from_kwargs(rays=3)

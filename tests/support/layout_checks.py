@@ -1,0 +1,131 @@
+"""Checks shared by the chart and atlas tests: charts keep every promise of issue 3, lookups land on their
+own chart, layers never overlap."""
+
+import numpy as np
+
+from seamless_ao.core.adjacency import face_adjacency
+from seamless_ao.core.clustering import AXES, SAME_SURFACE, cluster_faces, triangle_chart_geometry
+from seamless_ao.core.overlap import candidate_pairs, overlapping_triangles, separated
+from seamless_ao.core.pipeline import layer_lookup
+from seamless_ao.core.raster import COVERED, texel_geometry
+
+
+def random_surface_points(mesh, count, rng, per_triangle=False):
+    """Random points: triangle (k,), barycentrics (k, 3), positions (k, 3).
+
+    Area-weighted, or (``per_triangle``) every non-degenerate triangle equally
+    likely, so slivers get their share.
+    """
+    weight = np.where(mesh.degenerate, 0.0, 1.0 if per_triangle else mesh.triangle_area)
+    triangle = rng.choice(len(weight), size=count, p=weight / weight.sum())
+    r1, r2 = rng.random(count), rng.random(count)
+    s = np.sqrt(r1)
+    bary = np.stack([1 - s, s * (1 - r2), s * r2], axis=1)
+    points = np.einsum("kc,kcd->kd", bary, mesh.positions[mesh.triangles[triangle]])
+    return triangle, bary, points
+
+
+def texel_table(layout):
+    """Dense map texel -> position in ``layout.texels`` (-1 where empty)."""
+    atlas, texels = layout.atlas, layout.texels
+    table = np.full(atlas.width * atlas.height, -1, dtype=np.int64)
+    table[texels.index] = np.arange(len(texels))
+    return table
+
+
+def check_lookups(layout, rng, count=3000, per_triangle=False):
+    """Random surface points: bilinear footprints are filled and the nearest texel samples the point."""
+    mesh, atlas = layout.mesh, layout.atlas
+    triangle, bary, points = random_surface_points(mesh, count, rng, per_triangle)
+    uv = layer_lookup(atlas, mesh, triangle, bary)
+    table = texel_table(layout)
+    size = atlas.size
+    for layer in range(3):
+        pixel = uv[:, layer] * size - 0.5                       # bilinear footprint, as Blender samples
+        x0, y0 = np.floor(pixel[:, 0]).astype(int), np.floor(pixel[:, 1]).astype(int)
+        for dx in (0, 1):
+            for dy in (0, 1):
+                found = table[(y0 + dy) * atlas.width + (x0 + dx)]
+                assert (found >= 0).all(), "bilinear filtering reads an empty texel (layer {})".format(layer)
+        nearest = np.floor(uv[:, layer] * size).astype(int)
+        found = table[nearest[:, 1] * atlas.width + nearest[:, 0]]
+        texel_points, _, _ = texel_geometry(layout.texels, atlas, mesh, found)
+        member = np.where(atlas.membership[triangle, layer] >= 0, atlas.membership[triangle, layer],
+                          atlas.dominant_member[triangle])
+        signed_axis = layout.charts.chart_axis[atlas.member_chart[member]]
+        sampled = atlas.member_triangle[layout.texels.member[found]]
+        cos = np.minimum(np.abs((mesh.triangle_normal[triangle] * AXES[signed_axis]).sum(1)),
+                         np.abs((mesh.triangle_normal[sampled] * AXES[signed_axis]).sum(1)))
+        # The texel centre is within 0.71 texel of the point in the chart plane.  A covered
+        # texel samples its centre: within 0.71 texel.  A near texel samples the point of its
+        # nearest triangle closest to the centre, no farther from the centre than the point:
+        # within 1.42 texels.  The plane stretches by 1 / cos(angle to the chart axis) on the surface.
+        limit = np.where(layout.texels.kind[found] == COVERED, 0.71, 1.42) + 1e-6
+        texel_size = 1.0 / atlas.density / cos
+        distance = np.linalg.norm(texel_points - points, axis=1) / texel_size
+        assert (distance <= limit).all(), "a lookup lands {:.3g} texels from its point".format(
+            (distance / limit).max())
+
+
+def check_layers_do_not_overlap(layout):
+    """Within one UV layer, distinct triangles never overlap, and charts keep 2 texels apart."""
+    mesh, atlas = layout.mesh, layout.atlas
+    live = ~mesh.degenerate
+    for layer in range(3):
+        member = np.where(atlas.membership[:, layer] >= 0, atlas.membership[:, layer], atlas.dominant_member)
+        tri_uv = atlas.member_uv[member][live]
+        chart = atlas.member_chart[member][live]
+        pairs = candidate_pairs(tri_uv, np.zeros(len(tri_uv), dtype=np.int64), margin=2.0)
+        a, b = pairs[:, 0], pairs[:, 1]
+        same_chart = chart[a] == chart[b]
+        # different charts: at least two texels apart
+        far = separated(tri_uv[a[~same_chart]], tri_uv[b[~same_chart]], 1.999)
+        assert far.all(), "charts closer than 2 texels in layer {}".format(layer)
+        # same chart, not neighbours: interiors must not overlap
+        welded = layout.topology.welded_triangles[live]
+        shares = (welded[a][:, :, None] == welded[b][:, None, :]).any(axis=(1, 2))
+        inner = same_chart & ~shares
+        apart = separated(tri_uv[a[inner]], tri_uv[b[inner]], -1e-6)
+        assert apart.all(), "two triangles overlap in layer {}".format(layer)
+
+
+def check_texels_finite(layout):
+    points, normals, geometric = texel_geometry(layout.texels, layout.atlas, layout.mesh)
+    assert np.isfinite(points).all() and np.isfinite(normals).all()
+    assert np.allclose(np.linalg.norm(normals, axis=1), 1.0)
+    uv = layout.atlas.layer_uv()
+    assert np.isfinite(uv).all() and uv.min() > 0.0 and uv.max() < 1.0
+
+
+def overlaps_per_axis(mesh, topology, charts):
+    """Exhaustive count of overlapping triangle pairs inside charts, per axis."""
+    counts = []
+    for axis in range(3):
+        group, uv, depth, _ = triangle_chart_geometry(mesh, charts, axis)
+        pairs = overlapping_triangles(
+            uv, depth, group, topology.welded_triangles, mesh.triangle_face, SAME_SURFACE * mesh.scale)
+        counts.append(len(pairs))
+    return counts
+
+
+def check_charts(mesh, compare_angle=60.0):
+    """Cluster ``mesh`` and assert every property issue 3 asks of the result."""
+    topology = face_adjacency(mesh)
+    charts = cluster_faces(mesh, topology, compare_angle)
+    live = ~mesh.face_degenerate
+    covered = (charts.chart_of_face >= 0).sum(axis=1)
+    assert (covered[live] >= 1).all(), "a non-degenerate face is in no chart"
+    assert (covered[~live] == 0).all()
+    normals = mesh.face_normal
+    cos_limit = np.cos(np.radians(compare_angle))
+    for axis in range(3):
+        column = charts.chart_of_face[:, axis]
+        member = column >= 0
+        signed = charts.chart_axis[column[member]]
+        assert (signed // 2 == axis).all(), "chart stored on the wrong axis"
+        facing = (normals[member] * AXES[signed]).sum(axis=1)
+        assert (facing > 0).all(), "a face sits in a chart of an axis it faces away from"
+        dominant = charts.dominant_axis[member] == signed
+        assert ((facing >= cos_limit - 1e-9) | dominant).all(), "a face outside the compare angle joined a chart"
+    assert overlaps_per_axis(mesh, topology, charts) == [0, 0, 0], "a chart folds over itself"
+    return topology, charts
