@@ -16,6 +16,11 @@ def check_objects(objects, settings):
         raise SeamlessAOError("Select a mesh object to bake")
     seen_meshes = {}
     for ob in objects:
+        if ob is not None and ob.type == "EMPTY" and ob.instance_type == "COLLECTION" and ob.instance_collection:
+            raise SeamlessAOError(
+                "'{}' instances the collection '{}', whose objects are shared with every other instance; bake "
+                "the objects inside it, or make this instance real first (Object > Apply > Make Instances "
+                "Real)".format(ob.name, ob.instance_collection.name))
         if ob is None or ob.type != "MESH":
             raise SeamlessAOError("'{}' is not a mesh; Seamless AO bakes mesh objects only".format(
                 getattr(ob, "name", ob)))

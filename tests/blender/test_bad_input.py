@@ -82,6 +82,16 @@ def test_non_mesh_object(monkey):
     expect_refusal([camera], "'Camera' is not a mesh")
 
 
+def test_instanced_collection_is_refused_with_what_to_do(monkey):
+    """Issue 16, item 2: an instance's meshes are shared with every other instance, so it is refused."""
+    props = bpy.data.collections.new("Props")
+    props.objects.link(bpy.data.objects.new("Crate", bpy.data.meshes.new("Crate")))
+    instance = bpy.data.objects.new("Props instance", None)
+    instance.instance_type, instance.instance_collection = "COLLECTION", props
+    bpy.context.scene.collection.objects.link(instance)
+    expect_refusal([instance], "'Props instance' instances the collection 'Props'.*Make Instances Real")
+
+
 def test_empty_mesh_and_loose_edges(monkey):
     empty = add_object("Empty Mesh", bpy.data.meshes.new("Empty Mesh"))
     expect_refusal([empty], "has no faces")
