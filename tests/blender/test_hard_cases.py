@@ -29,18 +29,22 @@ def check_output(ob, report):
         assert np.isfinite(uv).all() and uv.min() >= 0.0 and uv.max() <= 1.0
 
 
-def check_coverage(mesh, rng, count=3000):
-    """Every point of every non-degenerate triangle reads only texels that got rays (bilinear footprint)."""
+def check_coverage(ob, mesh, loops, rng, count=3000):
+    """Every point of every non-degenerate triangle, looked up through the UV maps the bake wrote, reads
+    only texels that got rays (bilinear footprint).  Which texels got rays comes from the same layout,
+    rebuilt (it is deterministic); the UVs are the baked ones, and equal the layout's."""
     layout = build_layout(mesh, image_size=SETTINGS["image_size"])
     atlas, texels = layout.atlas, layout.texels
     computed = np.zeros(atlas.width * atlas.height, dtype=bool)
     computed[texels.index[texels.ring <= 1]] = True
+    baked = np.stack([uv_layer_array(ob.data, name)[loops] for name in ("AO_X", "AO_Y", "AO_Z")], axis=1)
+    assert np.abs(baked - atlas.layer_uv()).max() < 1e-6                  # (t, 3 layers, 3 corners, 2)
     live = np.flatnonzero(~mesh.degenerate)
     triangle = rng.choice(live, size=count)                       # every triangle alike: slivers too
     r1, r2 = rng.random(count), rng.random(count)
     s = np.sqrt(r1)
     bary = np.stack([1 - s, s * (1 - r2), s * r2], axis=1)
-    uv = np.einsum("kc,klcd->kld", bary, atlas.layer_uv()[triangle])
+    uv = np.einsum("kc,klcd->kld", bary, baked[triangle])
     for layer in range(3):
         pixel = np.floor(uv[:, layer] * atlas.size - 0.5).astype(int)
         for dx in (0, 1):
@@ -54,7 +58,7 @@ def test_hard_mesh(name, addon, fresh_scene):
     report = seamless_ao.bake([ob], **SETTINGS)
     check_output(ob, report)
     mesh, loops = read_triangles(ob.data)
-    check_coverage(mesh, np.random.default_rng(0))
+    check_coverage(ob, mesh, loops, np.random.default_rng(0))
     triangle, bary, normals = surface_samples(mesh, 800, seed=2)
     reference = reference_ao(ob, mesh, triangle, bary, normals, rays=1024)
     shown = shown_seamless(ob, bpy.data.images[report.image], loops, triangle, bary, normals)
@@ -104,6 +108,27 @@ def test_object_far_from_the_origin_matches_one_at_the_origin(addon, fresh_scene
     report = seamless_ao.bake([near], **SETTINGS)
     moved = image_array(bpy.data.images[report.image])
     assert np.abs(moved - reference).mean() < 0.005
+
+
+def test_vertex_data_far_from_the_origin_bakes_the_mesh_as_stored(addon, fresh_scene):
+    """Issue 18, item 5: 1e5 in the vertex data itself (object at the origin).  float32 at 1e5 moves
+    vertices by up to 0.004, so the reference is computed on the mesh as stored (read back, centred in
+    float64), and what the material shows must be within the usual limits of it."""
+    from blender_scenes import suzanne
+    ob = suzanne(1)
+    co = np.empty(len(ob.data.vertices) * 3)
+    ob.data.vertices.foreach_get("co", co)
+    ob.data.vertices.foreach_set("co", (co.reshape(-1, 3) * 5.0 + [1e5, -1e5, 5e4]).ravel())
+    ob.data.update()
+    report = seamless_ao.bake([ob], **SETTINGS)
+    check_output(ob, report)
+    mesh, loops = read_triangles(ob.data)
+    assert np.abs(mesh.positions.mean(axis=0) - [1e5, -1e5, 5e4]).max() < 10.0
+    triangle, bary, normals = surface_samples(mesh, 800, seed=2)
+    reference = reference_ao(ob, mesh, triangle, bary, normals, rays=1024)
+    shown = shown_seamless(ob, bpy.data.images[report.image], loops, triangle, bary, normals)
+    rmse, p99 = errors(shown, reference)
+    assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (rmse, p99)
 
 
 def test_same_seed_same_image_bit_for_bit(addon, fresh_scene):
