@@ -141,10 +141,19 @@ def test_deterministic():
 
 
 def test_n_gon_faces_stay_whole():
-    """Triangles of one polygon always share their charts (UVs are stored per face corner)."""
+    """Triangles of one polygon share their loops, so they must share their UVs: wherever two triangles of
+    one face meet at a vertex, the layout gives that corner the same UV in every layer."""
+    from seamless_ao.core.pipeline import build_layout
     positions, triangles = meshes.uv_sphere(rings=12, segments=24)
     face = np.arange(len(triangles)) // 2          # pair triangles into quads-ish faces
-    mesh = TriangleMesh(positions, triangles, face, np.zeros((len(triangles), 3, 3)))
-    charts = cluster_faces(mesh, face_adjacency(mesh))
-    per_triangle = charts.chart_of_face[mesh.triangle_face]
-    assert per_triangle.shape == (len(triangles), 3)
+    normals = np.repeat(positions[triangles].mean(axis=1, keepdims=True), 3, axis=1)
+    mesh = TriangleMesh(positions, triangles, face, normals / np.linalg.norm(normals, axis=2, keepdims=True))
+    uv = build_layout(mesh, image_size=256).atlas.layer_uv()                   # (t, 3 layers, 3 corners, 2)
+    corner_face = np.repeat(face, 3)
+    corner_vertex = triangles.ravel()
+    corner_uv = uv.transpose(0, 2, 1, 3).reshape(-1, 3, 2)                     # (3t, 3 layers, 2)
+    order = np.lexsort((corner_vertex, corner_face))
+    same = (corner_face[order][1:] == corner_face[order][:-1]) & (corner_vertex[order][1:] == corner_vertex[order][:-1])
+    assert same.sum() > len(triangles) // 2                                   # the paired triangles do meet
+    first, second = corner_uv[order][:-1][same], corner_uv[order][1:][same]
+    assert np.array_equal(first, second)
