@@ -23,9 +23,10 @@ from .core.settings import BakeSettings
 from .operators.cleanup import clear
 from .operators.export import resample, to_color_attribute
 from .operators.preview import set_preview
+from .operators.batch import batch
 from .operators.session import BakeReport, bake
 
-__all__ = ["bake", "clear", "set_preview", "resample", "to_color_attribute", "BakeSettings", "BakeReport",
+__all__ = ["bake", "batch", "clear", "set_preview", "resample", "to_color_attribute", "BakeSettings", "BakeReport",
            "SeamlessAOError", "BakeCancelled"]
 
 

@@ -5,7 +5,8 @@ option (``--rays 128``, ``--image-size 2048``, ``--ground-plane`` ...), and so i
 every export setting of the ``export`` command; options not given take the
 scene's saved Seamless AO settings.  Exit code 0 on
 success; otherwise a one-line reason on stderr and exit code 1 (2 for a bad
-command line).
+command line).  ``batch`` bakes files and folders of assets in worker
+processes (``operators/batch.py``): exit code 1 when any asset failed.
 """
 
 import argparse
@@ -14,13 +15,15 @@ import sys
 import bpy
 
 from ..core.errors import SeamlessAOError
-from ..core.settings import DOMAIN_ITEMS, RESAMPLE_FIELDS, export_fields, setting_fields
+from ..core.settings import DOMAIN_ITEMS, RESAMPLE_FIELDS, ExportSettings, export_fields, setting_fields
+from .batch import batch
 from .cleanup import clear
 from .export import resample, to_color_attribute
 from .properties import scene_export_settings
 from .session import bake
 
 PROG = "blender --background FILE.blend --command seamless_ao"
+DEFAULT_EXPORT = ExportSettings()
 
 
 def option_name(field_name):
@@ -45,7 +48,32 @@ def build_parser():
         output.add_argument("--save", action="store_true", help="save the .blend file in place afterwards")
         output.add_argument("--output", metavar="FILE.blend", help="save the result as a new .blend file")
     add_options(bake_parser, setting_fields())
+    add_batch_parser(actions)
     return parser
+
+
+def add_batch_parser(actions):
+    batch_parser = actions.add_parser(
+        "batch", help="bake every asset of some files or folders (.blend, .glb/.gltf, .obj, .fbx, .ply, .stl) "
+        "into .blend/.glb files, several at once")
+    batch_parser.add_argument("paths", nargs="+", metavar="PATH", help="asset files, folders or glob patterns")
+    batch_parser.add_argument("--glob", default="*", metavar="PATTERN",
+                              help="file names to take inside folders (default: every asset type)")
+    batch_parser.add_argument("--output-dir", metavar="DIR", help="write the results here (default: next to "
+                              "each input, as NAME_ao.glb or NAME_ao.blend)")
+    batch_parser.add_argument("--jobs", type=int, metavar="N", help="worker processes at once (default: cores)")
+    batch_parser.add_argument("--force", action="store_true", help="bake even assets whose output is up to date")
+    batch_parser.add_argument("--per-object", action="store_true", help="one AO image per object, not per asset")
+    batch_parser.add_argument("--new-uv", action="store_true",
+                              help="glTF out: put the AO on a new UV map AO_UV even where the asset has UVs")
+    batch_parser.add_argument("--color-attribute", choices=[item[0] for item in DOMAIN_ITEMS],
+                              help="glTF out: also write the AO as vertex colour COLOR_0 on this domain")
+    batch_parser.add_argument("--texture-size", type=int, default=DEFAULT_EXPORT.size, metavar="N",
+                              help="glTF out: occlusion texture size (default %(default)s)")
+    batch_parser.add_argument("--texture-padding", type=int, default=DEFAULT_EXPORT.padding, metavar="N",
+                              help="glTF out: texels of dilation around UV islands (default %(default)s)")
+    batch_parser.add_argument("--report", metavar="FILE.json", help="write a JSON report, one record per asset")
+    add_options(batch_parser, setting_fields())
 
 
 def add_options(parser, fields):
@@ -98,12 +126,11 @@ def run(argv):
     except SystemExit as stop:
         return int(stop.code or 0)
     try:
+        if args.action == "batch":
+            return run_batch(args)
         objects = resolve_objects(args.objects)
         if args.action == "bake":
-            given = given_options(args, setting_fields())
-            if "max_distance" in given and "auto_distance" not in given:
-                given["auto_distance"] = False          # an explicit distance means: use it
-            report = bake(objects, progress=_print_progress, **given)    # the scene's settings, overridden
+            report = bake(objects, progress=_print_progress, **bake_options(args))    # the scene's settings, overridden
             print(report.summary())
             for warning in report.warnings:
                 print("warning: " + warning)
@@ -130,6 +157,31 @@ def run(argv):
         print("seamless_ao: error: {}".format(error), file=sys.stderr)
         return 1
     return 0
+
+
+def bake_options(args):
+    """The bake settings the command line gave (an explicit ``--max-distance`` turns the automatic one off)."""
+    given = given_options(args, setting_fields())
+    if "max_distance" in given and "auto_distance" not in given:
+        given["auto_distance"] = False
+    return given
+
+
+def run_batch(args):
+    """``batch``: exit code 0 if every asset was baked or up to date, 1 if any failed, 2 if the request
+    itself is wrong (a bad setting, paths that name no asset)."""
+    try:
+        records = batch(args.paths, output_dir=args.output_dir, jobs=args.jobs, pattern=args.glob,
+                        force=args.force, per_object=args.per_object, new_uv=args.new_uv,
+                        color_attribute=args.color_attribute,
+                        texture_size=args.texture_size, texture_padding=args.texture_padding, report=args.report,
+                        **bake_options(args))
+    except SeamlessAOError as error:
+        print("seamless_ao: error: {}".format(error), file=sys.stderr)
+        return 2
+    counts = {status: sum(r.status == status for r in records) for status in ("baked", "skipped", "failed")}
+    print("Batch: {baked} baked, {skipped} up to date, {failed} failed".format(**counts))
+    return 1 if counts["failed"] else 0
 
 
 _last_printed = [-1]

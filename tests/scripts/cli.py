@@ -1,6 +1,7 @@
 """Stand-in for ``blender --background FILE --command seamless_ao ARGS`` with the bpy module.
 
     python cli.py FILE.blend ARGS...
+    python cli.py batch ARGS...          (no file: the factory scene)
 
 Opens the file, registers the add-on (as Blender would at start-up), and runs
 the command the add-on registered with ``bpy.utils.register_cli_command``;
@@ -16,13 +17,13 @@ import bpy  # noqa: E402
 import package  # noqa: E402
 
 
-def main(blend, argv):
-    bpy.ops.wm.open_mainfile(filepath=blend)
+def main(argv):
+    if argv and argv[0].endswith(".blend"):
+        bpy.ops.wm.open_mainfile(filepath=argv.pop(0))
     package.seamless_ao.register()
     from seamless_ao.operators import cli
     return cli.run(argv)
 
 
 if __name__ == "__main__":
-    arguments = package.script_arguments()
-    package.hard_exit(main(arguments[0], arguments[1:]))
+    package.hard_exit(main(package.script_arguments()))

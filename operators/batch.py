@@ -1,0 +1,200 @@
+"""Bake a folder of assets: ``batch(paths, output_dir=None, jobs=None, ...) -> [AssetRecord]``.
+
+The same as ``blender --background --command seamless_ao batch PATH ...``.
+Each asset is baked in a worker process of its own (``jobs`` at a time), so
+a crash or a refused mesh costs one asset, never the batch, and the cores
+are used even where a bake runs on one.  Workers are Blender itself
+(``bpy.app.binary_path --background --factory-startup --disable-autoexec``)
+or, under the bpy module, the same Python; either way they load this package
+from its own folder and never run anything an asset carries.
+"""
+
+import dataclasses
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+import bpy
+
+from ..core.batch import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
+                          settings_digest, write_stamp)
+from ..core.errors import SeamlessAOError
+from ..core.settings import DOMAIN_ITEMS, BakeSettings, ExportSettings
+
+PACKAGE_ROOT = pathlib.Path(__file__).resolve().parents[1]
+REPORT_VERSION = 1
+EXPORT_DEFAULTS = ExportSettings()
+#: Where a batch's defaults differ from a bake's: the pieces of an asset occlude each other.
+BATCH_DEFAULTS = {"use_scene_occluders": True}
+
+#: What a worker process runs: load this package from its folder (under a name of its own, so an
+#: installed copy is never registered twice) and hand it the job file.
+WORKER_BOOT = """\
+import importlib, importlib.util, os, sys
+for entry in {paths!r}:
+    if entry not in sys.path:
+        sys.path.append(entry)
+spec = importlib.util.spec_from_file_location(
+    "seamless_ao_batch_worker", os.path.join({root!r}, "__init__.py"), submodule_search_locations=[{root!r}])
+package = importlib.util.module_from_spec(spec)
+sys.modules[spec.name] = package
+spec.loader.exec_module(package)
+worker = importlib.import_module(spec.name + ".operators.batch_worker")
+arguments = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
+status = worker.main(arguments[0])
+sys.stdout.flush()
+sys.stderr.flush()
+os._exit(status)
+"""
+
+
+def worker_command(job_path):
+    """The command line of one worker: background Blender, or this Python when ``bpy`` is the module."""
+    boot = WORKER_BOOT.format(root=str(PACKAGE_ROOT), paths=[p for p in sys.path if p and os.path.isdir(p)])
+    binary = bpy.app.binary_path
+    if binary and not os.path.basename(binary).startswith("python"):
+        return [binary, "--background", "--factory-startup", "--disable-autoexec", "--python-expr", boot,
+                "--", job_path]
+    return [sys.executable, "-c", boot, job_path]
+
+
+def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, new_uv=False,
+          color_attribute=None, texture_size=EXPORT_DEFAULTS.size, texture_padding=EXPORT_DEFAULTS.padding,
+          report=None, progress=None, **settings):
+    """Bake every asset found in ``paths``; returns one :class:`~..core.batch.AssetRecord` per asset.
+
+    Parameters
+    ----------
+    paths : list of str
+        Files, folders (searched with their subfolders) or glob patterns.
+    output_dir : str, optional
+        Where the results go (created if needed); default: next to each input.
+    jobs : int, optional
+        Worker processes at once; default: the number of cores.
+    pattern : str
+        File-name glob inside folders, e.g. ``"*.glb"``.
+    force : bool
+        Bake even assets whose output is up to date.
+    per_object : bool
+        One AO image per object instead of one per asset.
+    new_uv : bool
+        glTF out: put the AO on a new UV map ``AO_UV`` (the second UV set,
+        ``texCoord`` 1) even when the asset has its own UVs (use it when they
+        overlap or tile).
+    color_attribute : {"CORNER", "POINT"}, optional
+        glTF out: also write the AO as the vertex colour ``COLOR_0``.
+    texture_size, texture_padding : int
+        glTF out: size and padding of the occlusion texture.
+    report : str, optional
+        Write a JSON report here (schema in the README).
+    progress : callable(str), optional
+        Called with one line per finished asset; default: print to stderr.
+    **settings
+        Any bake setting (:class:`~..core.settings.BakeSettings`), e.g.
+        ``rays=32``; the others take their defaults, not a scene's, except
+        ``use_scene_occluders``, on unless given: an asset's pieces occlude
+        each other.
+
+    Raises
+    ------
+    SeamlessAOError
+        For a bad setting, or when ``paths`` name no asset at all.
+    """
+    bake_settings = BakeSettings.from_kwargs(**dict(BATCH_DEFAULTS, **settings))
+    export = ExportSettings.from_kwargs(size=texture_size, padding=texture_padding)
+    if color_attribute is not None and color_attribute not in [item[0] for item in DOMAIN_ITEMS]:
+        raise SeamlessAOError("color_attribute must be one of {} (got {!r})".format(
+            ", ".join(item[0] for item in DOMAIN_ITEMS), color_attribute))
+    jobs = int(jobs or os.cpu_count() or 1)
+    if jobs < 1:
+        raise SeamlessAOError("jobs must be at least 1 (got {})".format(jobs))
+    progress = progress or (lambda line: print(line, file=sys.stderr, flush=True))
+
+    assets, unreadable = find_assets(paths, pattern)
+    assets = drop_outputs(assets, output_dir)
+    if not assets:
+        raise SeamlessAOError("no asset to bake: " + ("; ".join("{}: {}".format(*u) for u in unreadable)
+                                                       or "the paths name none"))
+    if output_dir is not None:
+        os.makedirs(output_dir, exist_ok=True)
+    outputs = plan_outputs(assets, output_dir)
+    job_options = dict(settings=dataclasses.asdict(bake_settings), per_object=bool(per_object),
+                       new_uv=bool(new_uv), color_attribute=color_attribute, texture_size=export.size,
+                       texture_padding=export.padding)
+    digest = settings_digest(job_options)
+
+    records = [AssetRecord(input=given, output="", error=sentence) for given, sentence in unreadable]
+    total = len(assets) + len(records)
+    started = time.perf_counter()
+    for record in records:
+        progress(progress_line(len(records), total, record, time.perf_counter() - started))
+    queue = []
+    for asset in assets:
+        stamp = None if force else previous_result(asset, outputs[asset], digest)
+        if stamp is None:
+            queue.append(asset)
+            continue
+        record = AssetRecord(input=str(asset), output=str(outputs[asset]), skipped=True,
+                             status="skipped" if stamp["status"] == "baked" else "failed", error=stamp["error"])
+        records.append(record)
+        progress(progress_line(len(records), total, record, time.perf_counter() - started))
+
+    with tempfile.TemporaryDirectory(prefix="seamless_ao_batch_") as scratch:
+        for record in _run_workers(queue, outputs, job_options, jobs, scratch):
+            records.append(record)
+            write_stamp(record.output, record.input, digest, record)
+            progress(progress_line(len(records), total, record, time.perf_counter() - started))
+    if report is not None:
+        write_report(report, records, job_options, time.perf_counter() - started)
+    return records
+
+
+def _run_workers(queue, outputs, job_options, jobs, scratch):
+    """Yield each asset's record as its worker finishes, keeping ``jobs`` workers busy."""
+    queue = list(queue)
+    running = []
+    number = 0
+    while queue or running:
+        while queue and len(running) < jobs:
+            asset = queue.pop(0)
+            number += 1
+            job_path = os.path.join(scratch, "job{}.json".format(number))
+            job = dict(job_options, input=str(asset), output=str(outputs[asset]),
+                       record=os.path.join(scratch, "record{}.json".format(number)))
+            with open(job_path, "w", encoding="utf-8") as handle:
+                json.dump(job, handle)
+            log_path = os.path.join(scratch, "log{}.txt".format(number))
+            with open(log_path, "w", encoding="utf-8") as log:
+                process = subprocess.Popen(worker_command(job_path), stdout=log, stderr=subprocess.STDOUT,
+                                           stdin=subprocess.DEVNULL)
+            running.append((process, job, log_path))
+        time.sleep(0.05)
+        for entry in [e for e in running if e[0].poll() is not None]:
+            running.remove(entry)
+            yield _collect(*entry)
+
+
+def _collect(process, job, log_path):
+    """The record a worker wrote, or one that says how the worker died."""
+    try:
+        with open(job["record"], encoding="utf-8") as handle:
+            return AssetRecord(**json.load(handle))
+    except (OSError, ValueError, TypeError):
+        pass
+    with open(log_path, encoding="utf-8", errors="replace") as handle:
+        lines = [line.strip() for line in handle if line.strip()]
+    return AssetRecord(input=job["input"], output=job["output"], error="the worker stopped with exit code {}{}".format(
+        process.returncode, " ({})".format(lines[-1]) if lines else ""))
+
+
+def write_report(path, records, job_options, seconds):
+    """The JSON report: the settings, totals and one record per asset (README, "Pipelines")."""
+    counts = {status: sum(r.status == status for r in records) for status in ("baked", "skipped", "failed")}
+    data = {"version": REPORT_VERSION, "settings": job_options, "seconds": seconds, "counts": counts,
+            "assets": [r.as_dict() for r in records]}
+    with open(path, "w", encoding="utf-8") as handle:
+        json.dump(data, handle, indent=1)
