@@ -59,7 +59,8 @@ def face_adjacency(mesh, weld_tolerance=WELD_TOLERANCE):
     ----------
     mesh : TriangleMesh
     weld_tolerance : float
-        Relative to ``mesh.scale`` (bounding-box diagonal).
+        Relative to each part's ``scale`` (bounding-box diagonal); parts of a
+        :meth:`~.mesh.TriangleMesh.concatenate`'d mesh never weld together.
 
     Returns
     -------
@@ -67,7 +68,7 @@ def face_adjacency(mesh, weld_tolerance=WELD_TOLERANCE):
         Non-manifold edges (3+ faces) connect every pair of their faces;
         zero-length sides and a face's own inner diagonals are ignored.
     """
-    welded = weld_vertices(mesh.positions, weld_tolerance * mesh.scale)
+    welded = weld_vertices(mesh.positions, weld_tolerance * mesh.vertex_scale, groups=mesh.part_of_vertex)
     welded_count = int(welded.max()) + 1 if len(welded) else 0
     welded_triangles = welded[mesh.triangles]
     keys = edge_keys(welded_triangles, max(welded_count, 1))

@@ -223,6 +223,7 @@ def make_injective(mesh, topology, charts, margin=0.0):
     adjacency = Adjacency(mesh.face_count, topology.face_edges)
     chart_of_face = charts.chart_of_face.copy()
     chart_axis = charts.chart_axis.copy()
+    triangle_scale = mesh.triangle_scale
     for axis in range(3):
         round_number = 0
         dirty = None                     # charts to check; None = all of this axis
@@ -235,7 +236,7 @@ def make_injective(mesh, topology, charts, margin=0.0):
                 group[~np.isin(group, dirty)] = -1
             pairs = fold_conflicts(
                 uv, depth, group, topology.welded_triangles, mesh.triangle_face,
-                SAME_SURFACE * mesh.scale, TOUCH * mesh.scale, margin, slope)
+                SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope)
             if not len(pairs):
                 break
             round_number += 1

@@ -77,6 +77,14 @@ class TriangleMesh:
         Face (polygon) of each triangle; faces are numbered ``0 .. f-1``.
     corner_normals : (t, 3, 3) float64
         Shading normal at each triangle corner (flat faces: the face normal).
+    scale : float
+        Bounding-box diagonal of the used vertices (the largest part's, for
+        meshes put together with :meth:`concatenate`).
+    part_of_vertex : (v,) int64
+        Input mesh of each vertex (all 0 for one mesh); parts never weld.
+    part_scale : (p,) float64
+        Each part's own ``scale``: its tolerances (welding, degenerate
+        triangles, injectivity, rim inset) are relative to it.
     """
 
     positions: np.ndarray
@@ -86,6 +94,8 @@ class TriangleMesh:
     face_count: int = 0
     # Derived, filled by ``__post_init__``.
     scale: float = field(init=False, default=1.0)
+    part_of_vertex: np.ndarray = field(init=False, repr=False, default=None)
+    part_scale: np.ndarray = field(init=False, repr=False, default=None)
     triangle_cross: np.ndarray = field(init=False, repr=False, default=None)
     triangle_area: np.ndarray = field(init=False, repr=False, default=None)
     triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
@@ -108,6 +118,8 @@ class TriangleMesh:
         used = np.zeros(len(self.positions), dtype=bool)
         used[self.triangles.ravel()] = True
         self.scale = mesh_size(self.positions[used] if t else self.positions)
+        self.part_of_vertex = np.zeros(len(self.positions), dtype=np.int64)
+        self.part_scale = np.array([self.scale])
         corners = self.positions[self.triangles]
         self.triangle_cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         length = np.linalg.norm(self.triangle_cross, axis=1)
@@ -153,7 +165,19 @@ class TriangleMesh:
         for name in ("triangle_cross", "triangle_area", "triangle_normal", "degenerate", "corner_normals"):
             setattr(combined, name, np.concatenate([getattr(m, name) for m in meshes]))
         combined.scale = max(m.scale for m in meshes)
+        combined.part_of_vertex = np.repeat(np.arange(len(meshes)), np.diff(vertex_offsets))
+        combined.part_scale = np.array([m.scale for m in meshes], dtype=np.float64)
         return combined, np.cumsum([0] + [len(m.triangles) for m in meshes])
+
+    @property
+    def vertex_scale(self):
+        """(v,) float64: the ``scale`` of each vertex's part."""
+        return self.part_scale[self.part_of_vertex]
+
+    @property
+    def triangle_scale(self):
+        """(t,) float64: the ``scale`` of each triangle's part."""
+        return self.part_scale[self.part_of_vertex[self.triangles[:, 0]]]
 
     @property
     def face_normal(self):
@@ -162,7 +186,9 @@ class TriangleMesh:
         np.add.at(summed, self.triangle_face, self.triangle_cross)
         length = np.linalg.norm(summed, axis=1)
         out = np.zeros_like(summed)
-        ok = length > 2.0 * DEGENERATE_AREA * self.scale**2
+        face_scale = np.zeros(self.face_count)
+        face_scale[self.triangle_face] = self.triangle_scale
+        ok = length > 2.0 * DEGENERATE_AREA * face_scale**2
         out[ok] = summed[ok] / length[ok, None]
         return out
 
@@ -222,38 +248,49 @@ def sanitized_normals(corner_normals, triangle_normal):
     return normals / length[..., None]
 
 
-def weld_vertices(positions, tolerance):
+def weld_vertices(positions, tolerance, groups=None):
     """Merge vertices closer than about ``tolerance`` (union over shifted grids).
 
     Parameters
     ----------
     positions : (v, 3) float64
-    tolerance : float, object units (> 0)
+    tolerance : float or (v,) float, object units (> 0)
+        One tolerance, or each vertex's (the same within a group).
+    groups : (v,) int, optional
+        Vertices of different groups never weld (meshes put together).
 
     Returns
     -------
     welded : (v,) int64
         New index of every vertex, ``0 .. w-1``, in order of first occurrence
-        (deterministic).  Two vertices within ``tolerance / 2`` on every axis
-        always weld; chains of close vertices weld transitively.
+        (deterministic).  Two vertices of one group within ``tolerance / 2`` on
+        every axis always weld; chains of close vertices weld transitively.
     """
     positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
     count = len(positions)
     if count == 0:
         return np.zeros(0, dtype=np.int64)
-    cell = (positions - positions.min(axis=0)) / tolerance
+    if groups is None:
+        groups = np.zeros(count, dtype=np.int64)
+    groups = np.asarray(groups, dtype=np.int64)
+    group_count = int(groups.max()) + 1
+    group_low = np.full((group_count, 3), np.inf)
+    np.minimum.at(group_low, groups, positions)
+    cell = (positions - group_low[groups]) / np.broadcast_to(np.asarray(tolerance, dtype=np.float64), (count,))[:, None]
     cells_per_axis = np.floor(cell.max(axis=0)).astype(np.int64) + 2
-    single_key = float(np.prod(cells_per_axis.astype(np.float64))) < 2.0**62
+    single_key = float(np.prod(cells_per_axis.astype(np.float64))) * group_count < 2.0**62
     edges = []
     for shift in np.ndindex(2, 2, 2):
         index = np.floor(cell + 0.5 * np.asarray(shift)).astype(np.int64)
         if single_key:
-            keys = (index[:, 0] * cells_per_axis[1] + index[:, 1]) * cells_per_axis[2] + index[:, 2]
+            keys = ((groups * cells_per_axis[0] + index[:, 0]) * cells_per_axis[1] + index[:, 1]) \
+                * cells_per_axis[2] + index[:, 2]
             order = np.argsort(keys, kind="stable")
             starts = group_starts(keys[order])
-        else:                      # far-flung vertices: sort the three cell indices instead
-            order = np.lexsort(index.T[::-1])
-            rows = index[order]
+        else:                      # far-flung vertices: sort the group and cell indices instead
+            rows_to_sort = np.column_stack([groups, index])
+            order = np.lexsort(rows_to_sort.T[::-1])
+            rows = rows_to_sort[order]
             change = np.flatnonzero((rows[1:] != rows[:-1]).any(axis=1)) + 1
             starts = np.concatenate(([0], change, [count]))
         first = np.repeat(order[starts[:-1]], np.diff(starts))

@@ -269,9 +269,12 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
 
     Parameters
     ----------
-    uv, depth, group, welded_triangles, triangle_face, depth_tolerance
+    uv, depth, group, welded_triangles, triangle_face
         As for :func:`overlapping_triangles`.
-    touch : float
+    depth_tolerance : float or (t,) float
+        Depth difference that still counts as one surface (per triangle when
+        meshes of different sizes are baked together).
+    touch : float or (t,) float
         2D distance treated as contact (e.g. coincident boundaries of stacked layers).
     margin : float
         Also report distant surfaces closer than this in 2D (about two texels).
@@ -288,6 +291,8 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     if len(live) < 2:
         return found[0]
     slope = np.zeros(len(uv)) if slope is None else slope
+    depth_tolerance = np.broadcast_to(np.asarray(depth_tolerance, dtype=np.float64), (len(uv),))
+    touch = np.broadcast_to(np.asarray(touch, dtype=np.float64), (len(uv),))
     tri = np.repeat(live, 3)
     corner = np.tile(np.arange(3), len(live))
     v0 = welded_triangles[tri, corner]
@@ -307,7 +312,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     b_tri, b_corner = tri[boundary], corner[boundary]
     seg = np.stack([uv[b_tri, b_corner], uv[b_tri, (b_corner + 1) % 3]], axis=1)     # (b, 2, 2)
     seg_depth = np.stack([depth[b_tri, b_corner], depth[b_tri, (b_corner + 1) % 3]], axis=1)
-    reach = max(touch, margin)
+    reach = max(float(touch[live].max()), margin)
     pairs = candidate_pairs(seg, group[b_tri], reach)
     if len(pairs):
         a, b = pairs[:, 0], pairs[:, 1]
@@ -319,8 +324,10 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         distance, s, t = segment_distance(seg[a, 0], seg[a, 1], seg[b, 0], seg[b, 1])
         depth_a = seg_depth[a, 0] + s * (seg_depth[a, 1] - seg_depth[a, 0])
         depth_b = seg_depth[b, 0] + t * (seg_depth[b, 1] - seg_depth[b, 0])
-        explained = depth_tolerance + distance * 2.0 * np.maximum(slope[b_tri[a]], slope[b_tri[b]])
-        close = (distance <= touch) | ((distance <= margin) & (margin > 0))
+        tri_a, tri_b = b_tri[a], b_tri[b]
+        explained = (np.maximum(depth_tolerance[tri_a], depth_tolerance[tri_b])
+                     + distance * 2.0 * np.maximum(slope[tri_a], slope[tri_b]))
+        close = (distance <= np.minimum(touch[tri_a], touch[tri_b])) | ((distance <= margin) & (margin > 0))
         hit = close & (np.abs(depth_a - depth_b) > explained)
         found.append(np.stack([b_tri[a][hit], b_tri[b][hit]], 1))
 
@@ -356,7 +363,8 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
                 if side[i] != side[j] or triangle_face[members[i]] == triangle_face[members[j]]:
                     continue
                 one, two = members[[i]], members[[j]]
-                if overlap_depth_gap(uv[one], depth[one], uv[two], depth[two])[0] > depth_tolerance:
+                tolerance = max(depth_tolerance[members[i]], depth_tolerance[members[j]])
+                if overlap_depth_gap(uv[one], depth[one], uv[two], depth[two])[0] > tolerance:
                     found.append(np.array([[members[i], members[j]]], dtype=np.int64))
 
     pairs = np.sort(np.concatenate(found), axis=1)

@@ -9,11 +9,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .adjacency import Topology, face_adjacency
+from .adjacency import face_adjacency
 from .atlas import chart_plane_area, estimate_density, pack_charts
-from .clustering import Charts, cut_long_charts, make_injective, signed_axis_clusters
+from .clustering import cut_long_charts, make_injective, signed_axis_clusters
 from .errors import SeamlessAOError
-from .mesh import MeshReport, TriangleMesh, require_faces
+from .mesh import TriangleMesh, require_faces
 from .raster import rasterise
 
 #: Distant parts of one chart must stay this many texels apart (bilinear reads 1).
@@ -64,28 +64,27 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     meshes = [meshes] if isinstance(meshes, TriangleMesh) else list(meshes)
     for mesh in meshes:
         require_faces(mesh)
+    # Several meshes are one mesh of parts from here on: parts never weld, so they never share an edge
+    # or a chart, and each keeps tolerances relative to its own size.
+    mesh, offsets = TriangleMesh.concatenate(meshes) if len(meshes) > 1 else (
+        meshes[0], np.array([0, len(meshes[0].triangles)]))
     timings = {}
     start = time.perf_counter()
-    topologies = [face_adjacency(mesh) for mesh in meshes]
-    charts = [signed_axis_clusters(mesh, topology, compare_angle) for mesh, topology in zip(meshes, topologies)]
+    topology = face_adjacency(mesh)
+    charts = signed_axis_clusters(mesh, topology, compare_angle)
     timings["charts"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    area = sum(chart_plane_area(mesh, c) for mesh, c in zip(meshes, charts))
-    expected = density if density is not None else estimate_density(area, image_size)
+    expected = density if density is not None else estimate_density(chart_plane_area(mesh, charts), image_size)
     # One injectivity pass with a margin: it splits folds (what cluster_faces
     # does) and also keeps distant parts of a chart a few texels apart, so
     # filtering at a chart's edge never mixes in AO from another surface.
-    charts = [make_injective(mesh, topology, c, margin=SEPARATION_TEXELS / expected)
-              for mesh, topology, c in zip(meshes, topologies, charts)]
+    charts = make_injective(mesh, topology, charts, margin=SEPARATION_TEXELS / expected)
     # no chart longer than a quarter of the image at the expected density (charts are never rotated)
     longest = (image_size / 4 if density is None else LONGEST_CHART_TEXELS) / expected
-    charts = [cut_long_charts(mesh, c, longest) for mesh, c in zip(meshes, charts)]
+    charts = cut_long_charts(mesh, charts, longest)
     timings["injectivity"] = time.perf_counter() - start
     start = time.perf_counter()
-    mesh, offsets = TriangleMesh.concatenate(meshes) if len(meshes) > 1 else (meshes[0], np.array([0, len(meshes[0].triangles)]))
-    topology = merge_topologies(meshes, topologies) if len(meshes) > 1 else topologies[0]
-    charts = merge_charts(charts) if len(meshes) > 1 else charts[0]
     atlas = pack_charts(mesh, topology, charts, padding=padding,
                         image_size=None if density is not None else image_size, density=density)
     charts = atlas.charts
@@ -98,32 +97,6 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
         raise SeamlessAOError("No texel landed on the mesh; raise the image size or texel density")
     part = np.repeat(np.arange(len(meshes)), np.diff(offsets))
     return Layout(mesh, topology, charts, atlas, texels, part, timings)
-
-
-def merge_topologies(meshes, topologies):
-    """One :class:`~.adjacency.Topology` for :meth:`TriangleMesh.concatenate`'d meshes."""
-    welded_offsets = np.cumsum([0] + [int(t.welded.max()) + 1 if len(t.welded) else 0 for t in topologies])
-    face_offsets = np.cumsum([0] + [m.face_count for m in meshes])
-    report = MeshReport(**{
-        name: sum(getattr(t.report, name) for t in topologies) for name in MeshReport.__dataclass_fields__})
-    return Topology(
-        welded=np.concatenate([t.welded + o for t, o in zip(topologies, welded_offsets)]),
-        welded_triangles=np.concatenate([t.welded_triangles + o for t, o in zip(topologies, welded_offsets)]),
-        face_edges=np.concatenate([t.face_edges + o for t, o in zip(topologies, face_offsets)]),
-        report=report,
-    )
-
-
-def merge_charts(parts):
-    """One :class:`~.clustering.Charts` for several meshes' charts (ids offset, never shared)."""
-    offsets = np.cumsum([0] + [c.count for c in parts])
-    return Charts(
-        chart_of_face=np.concatenate([np.where(c.chart_of_face >= 0, c.chart_of_face + o, -1)
-                                      for c, o in zip(parts, offsets)]),
-        chart_axis=np.concatenate([c.chart_axis for c in parts]),
-        dominant_axis=np.concatenate([c.dominant_axis for c in parts]),
-        splits=sum(c.splits for c in parts),
-    )
 
 
 def layer_lookup(atlas, mesh, triangle, bary):

@@ -304,7 +304,7 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     points = (b0[:, None] * positions[corner[:, 0]] + b1[:, None] * positions[corner[:, 1]]
               + b2[:, None] * positions[corner[:, 2]])
     points = _inset_rim_points(points, np.minimum(np.minimum(b0, b1), b2) <= 0.0,
-                               positions[corner].mean(axis=1), RIM_INSET * mesh.scale)
+                               positions[corner].mean(axis=1), RIM_INSET * mesh.triangle_scale[triangle])
     normals = mesh.corner_normals[triangle]
     normals = b0[:, None] * normals[:, 0] + b1[:, None] * normals[:, 1] + b2[:, None] * normals[:, 2]
     geometric = mesh.triangle_normal[triangle]
@@ -315,7 +315,8 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
 
 
 def _inset_rim_points(points, rim, centres, inset):
-    """Move the ``rim`` points (k,) bool toward their triangle's centre by ``inset`` (at most half way).
+    """Move the ``rim`` points (k,) bool toward their triangle's centre by ``inset`` (float or (k,), at
+    most half way).
 
     A rim point at a concave crease lies exactly in the plane of the other
     face; rays from it into that face's half-space would start on its plane,
@@ -324,6 +325,7 @@ def _inset_rim_points(points, rim, centres, inset):
     """
     towards = centres[rim] - points[rim]
     length = np.sqrt((towards * towards).sum(axis=1))
+    inset = np.broadcast_to(np.asarray(inset, dtype=np.float64), rim.shape)[rim]
     step = np.minimum(inset, 0.5 * length) / np.maximum(length, 1e-300)
     points[rim] += towards * step[:, None]
     return points

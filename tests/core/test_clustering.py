@@ -157,3 +157,28 @@ def test_n_gon_faces_stay_whole():
     assert same.sum() > len(triangles) // 2                                   # the paired triangles do meet
     first, second = corner_uv[order][:-1][same], corner_uv[order][1:][same]
     assert np.array_equal(first, second)
+
+
+def test_meshes_baked_together_never_weld_and_keep_their_own_tolerances():
+    """Issue 15: several objects are concatenated before clustering.  Parts must not weld where they
+    coincide (two boxes in their own object spaces overlap exactly), and a millimetre part beside a
+    kilometre part keeps its own weld tolerance (one of the large part's would weld the small one's
+    vertices into a point)."""
+    from seamless_ao.core.pipeline import build_layout
+    box = TriangleMesh.from_triangles(*meshes.box(subdivisions=2))
+    tiny = TriangleMesh.from_triangles(*meshes.box(size=(1e-3, 1e-3, 1e-3), subdivisions=2))
+    huge = TriangleMesh.from_triangles(*meshes.box(size=(1e3, 1e3, 1e3), subdivisions=2))
+    layout = build_layout([box, box, tiny, huge], image_size=512)
+    part, topology, charts = layout.part_of_triangle, layout.topology, layout.charts
+    welded_per_part = [len(np.unique(topology.welded[layout.mesh.triangles[part == k]])) for k in range(4)]
+    alone = len(np.unique(face_adjacency(box).welded))
+    assert welded_per_part == [alone] * 4
+    face_part = np.zeros(layout.mesh.face_count, dtype=np.int64)
+    face_part[layout.mesh.triangle_face] = part
+    first, second = topology.face_edges.T
+    assert (face_part[first] == face_part[second]).all(), "an edge joins faces of two objects"
+    for axis in range(3):
+        in_chart = charts.chart_of_face[:, axis] >= 0
+        chart_part = {}
+        for chart, p in zip(charts.chart_of_face[in_chart, axis], face_part[in_chart]):
+            assert chart_part.setdefault(chart, p) == p, "a chart spans two objects"
