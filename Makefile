@@ -76,6 +76,7 @@ bench: .venv/5.0/.bench
 	$(call venv_python,5.0) tests/bench/report.py --output-dir out/bench
 	$(call venv_python,5.0) tests/bench/bench_atlas.py --sizes 512 1024 | tee out/bench/stages.md
 	$(call venv_python,5.0) tests/bench/bench_assets.py | tee out/bench/assets.md
+	$(call venv_python,5.0) tests/bench/bench_concave.py | tee out/bench/concave.md
 
 # ---------------------------------------------------------------------------
 # Packaging: the zips bundle the xatlas wheels listed in blender_manifest.toml.

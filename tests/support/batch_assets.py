@@ -9,6 +9,8 @@
   would write ``marker``: a batch must never run it;
 - ``broken.glb``: not a glTF at all;
 - ``edges.obj``: only loose edges (nothing to bake).
+
+:func:`other_formats` writes the same small scene as .gltf, .fbx, .ply and .stl.
 """
 
 import addon_utils
@@ -75,6 +77,23 @@ def room_blend(path, marker):
 def edges_obj(path):
     lines = ["v 0 0 0", "v 1 0 0", "v 1 1 0", "v 0 1 1", "l 1 2", "l 2 3", "l 3 4"]
     path.write_text("\n".join(lines) + "\n")
+
+
+def other_formats(folder):
+    """Suzanne over a plate as .gltf (with its .bin), .fbx, .ply and .stl: the other formats a batch reads."""
+    folder.mkdir(parents=True, exist_ok=True)
+    _scene()
+    bpy.ops.mesh.primitive_monkey_add(location=(0.0, 0.0, 0.8))
+    _plate()
+    addon_utils.enable("io_scene_gltf2", default_set=False)
+    addon_utils.enable("io_scene_fbx", default_set=False)
+    paths = [folder / name for name in ("scene.gltf", "scene.fbx", "scene_ply.ply", "scene_stl.stl")]
+    bpy.ops.export_scene.gltf(filepath=str(paths[0]), export_format="GLTF_SEPARATE")
+    bpy.ops.export_scene.fbx(filepath=str(paths[1]))
+    bpy.ops.wm.ply_export(filepath=str(paths[2]))
+    bpy.ops.wm.stl_export(filepath=str(paths[3]))
+    _scene()
+    return paths
 
 
 def make_asset_folder(folder, marker):

@@ -1,6 +1,7 @@
 """Meshes and scenes made with bpy, for tests and the demo."""
 
 import bpy
+import numpy as np
 
 
 def add_object(name, mesh):
@@ -73,6 +74,30 @@ def cornell_box(name="Cornell Box"):
     bm.free()
     # subdivide so the flat walls are not single huge quads
     return add_object(name, mesh)
+
+
+#: The Cornell box's concave edges: (a point on the edge, its direction, the two faces' inward normals).
+CORNELL_CONCAVE_EDGES = {
+    "back/right wall": ((1.0, 1.0, 1.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (-1.0, 0.0, 0.0)),
+    "back/left wall": ((-1.0, 1.0, 1.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (1.0, 0.0, 0.0)),
+    "floor/back wall": ((0.3, 1.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0)),
+    "floor/right wall": ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (-1.0, 0.0, 0.0)),
+}
+
+
+def cornell_concave_points(distances, along=np.linspace(-0.5, 0.5, 8)):
+    """Points near the Cornell box's concave edges, on both faces of each.
+
+    Yields ``(edge name, points (k, 3), normals (k, 3), distance (k,))`` per
+    edge and face: ``along`` positions on the edge times ``distances`` (units)
+    off it into the face.
+    """
+    for name, (start, direction, normal_a, normal_b) in CORNELL_CONCAVE_EDGES.items():
+        for side, away in ((normal_a, normal_b), (normal_b, normal_a)):
+            distance = np.repeat(distances, len(along))
+            points = (np.asarray(start) + np.outer(np.tile(along, len(distances)), direction)
+                      + distance[:, None] * np.asarray(away))
+            yield name, points, np.tile(side, (len(points), 1)), distance
 
 
 def sphere_over_plane(name="Sphere Over Plane"):
