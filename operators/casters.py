@@ -16,7 +16,7 @@ import bpy
 import numpy as np
 
 from ..core.ao import BVHCaster, ao_params, ray_space
-from .mesh_data import scene_occluders
+from .mesh_data import mesh_boxes, scene_occluders
 
 TEMP_PREFIX = ".SeamlessAO_temp_"
 
@@ -131,26 +131,34 @@ class NodesCaster:
 
     def free(self):
         """Remove every temporary datablock (safe to call twice)."""
-        removers = {
-            bpy.types.Scene: bpy.data.scenes, bpy.types.Object: bpy.data.objects,
-            bpy.types.Mesh: bpy.data.meshes, bpy.types.NodeTree: bpy.data.node_groups,
-        }
-        for datablock in reversed(self._datablocks):
+        free_casters([self])
+
+
+def free_casters(casters):
+    """Remove the temporary datablocks of all ``casters`` in one ``bpy.data.batch_remove``: removing
+    them one by one scans every datablock each time (31 ms each with 400 objects baked together)."""
+    datablocks = []
+    for caster in casters:
+        for datablock in getattr(caster, "_datablocks", ()):
             try:
-                collection = next(c for t, c in removers.items() if isinstance(datablock, t))
-                collection.remove(datablock)
+                datablock.name                       # still there?
+                datablocks.append(datablock)
             except ReferenceError:
-                pass                              # already gone
-        self._datablocks.clear()
+                pass
+        if hasattr(caster, "_datablocks"):
+            caster._datablocks.clear()
+    if datablocks:
+        bpy.data.batch_remove(datablocks)
 
 
-def ray_setup(ob, mesh, settings, scene, depsgraph, rays=None):
+def ray_setup(ob, mesh, settings, scene, depsgraph, rays=None, boxes=None):
     """AO parameters, caster and ray-space map for one object.
 
     Ray space has the world's axes and scale (what the object looks like)
     with the object's bounding-box centre at the origin, so positions stay
     small for float32 BVHs even far from the world origin.  The caller frees
-    the caster (``caster.free()`` where it has one).
+    the caster (``caster.free()`` where it has one).  ``boxes``: the scene's
+    :func:`~.mesh_data.mesh_boxes`, when a bake of several objects has them.
     """
     matrix = np.array(ob.matrix_world, dtype=np.float64)
     centre, to_ray = ray_space(mesh.positions, matrix[:3, :3])
@@ -160,7 +168,8 @@ def ray_setup(ob, mesh, settings, scene, depsgraph, rays=None):
     if settings.use_scene_occluders:
         shift = matrix[:3, :3] @ centre + matrix[:3, 3]               # ray space + shift = world
         low, high = own.min(axis=0) + shift, own.max(axis=0) + shift
-        for world_positions, other_triangles in scene_occluders(scene, depsgraph, ob, low, high,
+        boxes = boxes if boxes is not None else mesh_boxes(scene, depsgraph)
+        for world_positions, other_triangles in scene_occluders(boxes, depsgraph, ob, low, high,
                                                                 params.max_distance):
             triangles.append(other_triangles + sum(len(p) for p in positions))
             positions.append(world_positions - shift)

@@ -70,11 +70,12 @@ def read_object(ob, depsgraph):
         return read_triangles(mesh)
 
 
-def scene_occluders(scene, depsgraph, exclude, low, high, reach):
-    """(world positions (v, 3) float64, triangles (t, 3) int64) of every visible mesh of the scene but
-    ``exclude`` whose bounds come within ``reach`` (the maximum ray distance) of the world box
-    ``low``..``high`` (3,) of what is baked: farther ones cannot occlude, so they are not even read."""
-    for other in near_objects(scene, depsgraph, exclude, low, high, reach):
+def scene_occluders(boxes, depsgraph, exclude, low, high, reach):
+    """(world positions (v, 3) float64, triangles (t, 3) int64) of every mesh in ``boxes`` (see
+    :func:`mesh_boxes`) but ``exclude`` whose bounds come within ``reach`` (the maximum ray distance) of
+    the world box ``low``..``high`` (3,) of what is baked: farther ones cannot occlude, so they are not
+    even read."""
+    for other in near_objects(boxes, exclude, low, high, reach):
         with evaluated_mesh(other, depsgraph) as mesh:
             mesh.calc_loop_triangles()
             count = len(mesh.loop_triangles)
@@ -89,15 +90,24 @@ def scene_occluders(scene, depsgraph, exclude, low, high, reach):
         yield world, tris.reshape(-1, 3).astype(np.int64)
 
 
-def near_objects(scene, depsgraph, exclude, low, high, reach):
-    """The visible mesh objects of ``scene`` but ``exclude`` whose world bounding boxes come within
-    ``reach`` of the box ``low``..``high``."""
-    candidates = [other for other in scene.objects
-                  if other is not exclude and other.type == "MESH" and other.visible_get()]
-    if not candidates:
-        return []
-    corners = np.array([other.evaluated_get(depsgraph).bound_box for other in candidates], dtype=np.float64)
-    matrices = np.array([other.matrix_world for other in candidates], dtype=np.float64)          # (k, 4, 4)
+def mesh_boxes(scene, depsgraph):
+    """``(objects, low (k, 3), high (k, 3))``: the visible mesh objects of ``scene`` and their world
+    bounding boxes (read once per bake: with hundreds of objects baked together, reading them again for
+    each took seconds)."""
+    objects = [other for other in scene.objects if other.type == "MESH" and other.visible_get()]
+    if not objects:
+        return objects, np.zeros((0, 3)), np.zeros((0, 3))
+    corners = np.array([other.evaluated_get(depsgraph).bound_box for other in objects], dtype=np.float64)
+    matrices = np.array([other.matrix_world for other in objects], dtype=np.float64)          # (k, 4, 4)
     world = np.einsum("kij,kcj->kci", matrices[:, :3, :3], corners) + matrices[:, None, :3, 3]
-    near = boxes_near(low, high, world.min(axis=1), world.max(axis=1), reach)
-    return [other for other, keep in zip(candidates, near) if keep]
+    return objects, world.min(axis=1), world.max(axis=1)
+
+
+def near_objects(boxes, exclude, low, high, reach):
+    """The objects of ``boxes`` (see :func:`mesh_boxes`) but ``exclude`` whose world bounding boxes
+    come within ``reach`` of the box ``low``..``high``."""
+    objects, lows, highs = boxes
+    if not objects:
+        return []
+    near = boxes_near(low, high, lows, highs, reach)
+    return [other for other, keep in zip(objects, near) if keep and other is not exclude]

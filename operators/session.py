@@ -26,10 +26,10 @@ from ..core.fill import texel_image
 from ..core.job import AOJob
 from ..core.pipeline import build_layout
 from ..core.settings import BakeSettings
-from .casters import ray_setup
+from .casters import free_casters, ray_setup
 from .checks import check_objects, check_unchanged, mesh_fingerprint
 from .keys import IMAGE_KEY
-from .mesh_data import read_object
+from .mesh_data import mesh_boxes, read_object
 from .properties import settings_from
 from .writes import Transaction, image_file_path, save_image_file
 
@@ -97,7 +97,8 @@ class BakeSession:
                 padding=self.settings.padding)
             self._check_memory(meshes, layout)
             yield 0.15, "Preparing rays"
-            parts = [self._ray_part(frame, mesh) for frame, mesh in zip(frames, meshes)]
+            boxes = mesh_boxes(self.scene, self.depsgraph) if self.settings.use_scene_occluders else None
+            parts = [self._ray_part(frame, mesh, boxes) for frame, mesh in zip(frames, meshes)]
             job = AOJob(layout, parts)
             while not job.finished:
                 fraction = job.step()
@@ -164,15 +165,13 @@ class BakeSession:
             pixels, texels = layout.atlas.width * layout.atlas.height, len(layout.texels)
         check_budget(self.settings, triangles, pixels, texels)
 
-    def _ray_part(self, frame, mesh):
-        params, caster, to_ray = ray_setup(frame[0], mesh, self.settings, self.scene, self.depsgraph)
+    def _ray_part(self, frame, mesh, boxes):
+        params, caster, to_ray = ray_setup(frame[0], mesh, self.settings, self.scene, self.depsgraph, boxes=boxes)
         self.casters.append(caster)
         return params, caster, to_ray
 
     def _free_casters(self):
-        for caster in self.casters:
-            if hasattr(caster, "free"):
-                caster.free()
+        free_casters(self.casters)
         self.casters = []
 
     # -- writing ---------------------------------------------------------------

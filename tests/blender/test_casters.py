@@ -48,3 +48,33 @@ def test_nodes_caster_agrees_with_the_bvh_caster_hit_for_hit(fresh_scene):
     agree[hit] &= np.isclose(distance[hit], expected_distance[hit], rtol=1e-4, atol=1e-5)
     agree[hit] &= np.sign(facing[hit]) == np.sign(expected_facing[hit])
     assert agree.mean() > 0.999, agree.mean()                  # a ray grazing an edge may go either way
+
+
+def test_a_bake_of_many_objects_leaves_no_temporary_datablock(addon, fresh_scene):
+    """Each object gets a caster (a scene, two objects, two meshes and a node group of its own); all of
+    them go in one batch_remove after the rays, after a cancel too."""
+    import bpy
+    from seamless_ao.core.errors import BakeCancelled
+    from seamless_ao.operators.casters import TEMP_PREFIX
+
+    def temporary():
+        return [d.name for kind in (bpy.data.scenes, bpy.data.objects, bpy.data.meshes, bpy.data.node_groups)
+                for d in kind if d.name.startswith(TEMP_PREFIX)]
+
+    objects = []
+    for k in range(6):
+        bpy.ops.mesh.primitive_cube_add(size=0.8, location=(k, 0.0, 0.0))
+        objects.append(bpy.context.active_object)
+    before = (len(bpy.data.scenes), len(bpy.data.objects), len(bpy.data.meshes), len(bpy.data.node_groups))
+    addon.bake(objects, image_size=256, rays=4, use_scene_occluders=True)
+    assert temporary() == []
+    assert (len(bpy.data.scenes), len(bpy.data.objects), len(bpy.data.meshes)) == before[:3]
+    casting = []
+    try:
+        addon.bake(objects, image_size=256, rays=4, should_cancel=lambda: bool(casting),
+                   progress=lambda fraction, message: casting.append(1) if message.startswith("Casting") else None)
+    except BakeCancelled:
+        pass
+    else:
+        raise AssertionError("the bake was not cancelled")
+    assert casting and temporary() == []
