@@ -1,6 +1,7 @@
 # Seamless AO: one entry point for setup, demo, tests, benchmarks and packaging.
 #
 #   make demo        set up .venv/5.0 and bake the built-in demo scene into out/
+#   make batch ARGS="assets/ --output-dir baked/"   bake a folder of assets (README, Pipelines)
 #   make test        run the test suite on Blender 5.0, 4.2 LTS and 5.2 (bpy wheels)
 #   make test BLENDERS=5.0       ... on one Blender only
 #   make test-fast   only tests/core (numpy + mathutils, no Blender data) on Blender 5.0
@@ -34,10 +35,10 @@ WHEELHOUSE ?= $(shell python3 -m pip cache dir 2>/dev/null || echo $(HOME)/.cach
 venv_dir = .venv/$(1)
 venv_python = .venv/$(1)/bin/python
 
-.PHONY: help setup demo test test-fast test-one bench extension validate clean
+.PHONY: help setup demo batch test test-fast test-one bench extension validate clean
 
 help:
-	@sed -n '3,10p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '3,9p' Makefile | sed 's/^# \{0,1\}//'
 
 # .venv/<version>/.installed is rebuilt when the pins change.
 .venv/%/.installed: requirements/blender-%.txt
@@ -56,6 +57,10 @@ setup: .venv/$(BLENDER)/.installed
 
 demo: .venv/5.0/.installed
 	$(call venv_python,5.0) tests/scripts/demo.py --output-dir out
+
+# The batch command without a Blender install: make batch ARGS="assets/ --output-dir baked/ --jobs 2"
+batch: .venv/5.0/.installed
+	$(call venv_python,5.0) tests/scripts/cli.py batch $(ARGS)
 
 test:
 	@for v in $(BLENDERS); do $(MAKE) --no-print-directory test-one BLENDER=$$v; done

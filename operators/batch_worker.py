@@ -208,7 +208,7 @@ def run_job(job):
         record.texels, record.rays, record.noise = numbers["texels"], numbers["rays"], numbers["noise"]
         record.seconds.update(numbers["seconds"])
         record.warnings = numbers["warnings"] + (
-            ["{} objects shared a mesh with another and were given their own copy".format(shared)] if shared else [])
+            ["{} object(s) shared a mesh with another and got a copy of their own".format(shared)] if shared else [])
         start = time.perf_counter()
         write_output(objects, job, from_blend)
         record.seconds["export"] = time.perf_counter() - start

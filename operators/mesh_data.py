@@ -8,6 +8,16 @@ from ..core.errors import SeamlessAOError
 from ..core.mesh import TriangleMesh, boxes_near
 
 
+def triangle_arrays(mesh):
+    """Vertex positions (v, 3) float64 and Blender's triangulation (t, 3) int64 of a ``bpy.types.Mesh``."""
+    mesh.calc_loop_triangles()
+    positions = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", positions)
+    triangles = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("vertices", triangles)
+    return positions.reshape(-1, 3).astype(np.float64), triangles.reshape(-1, 3).astype(np.int64)
+
+
 def read_triangles(mesh):
     """A :class:`~..core.mesh.TriangleMesh` of a ``bpy.types.Mesh``, in object space.
 
@@ -20,12 +30,8 @@ def read_triangles(mesh):
     triangle_loops : (t, 3) int64
         Loop (face corner) index of each triangle corner, to write UVs back.
     """
-    mesh.calc_loop_triangles()
-    count = len(mesh.loop_triangles)
-    positions = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    mesh.vertices.foreach_get("co", positions)
-    triangles = np.empty(count * 3, dtype=np.int32)
-    mesh.loop_triangles.foreach_get("vertices", triangles)
+    positions, triangles = triangle_arrays(mesh)
+    count = len(triangles)
     loops = np.empty(count * 3, dtype=np.int32)
     mesh.loop_triangles.foreach_get("loops", loops)
     polygon = np.empty(count, dtype=np.int32)
@@ -35,8 +41,8 @@ def read_triangles(mesh):
         mesh.corner_normals.foreach_get("vector", corner_normals)
     loops = loops.reshape(-1, 3).astype(np.int64)
     triangle_mesh = TriangleMesh(
-        positions.reshape(-1, 3).astype(np.float64),
-        triangles.reshape(-1, 3),
+        positions,
+        triangles,
         polygon,
         corner_normals.reshape(-1, 3)[loops] if count else np.zeros((0, 3, 3)),
         face_count=len(mesh.polygons),
@@ -77,17 +83,11 @@ def scene_occluders(boxes, depsgraph, exclude, low, high, reach):
     even read."""
     for other in near_objects(boxes, exclude, low, high, reach):
         with evaluated_mesh(other, depsgraph) as mesh:
-            mesh.calc_loop_triangles()
-            count = len(mesh.loop_triangles)
-            if not count:
-                continue
-            co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-            mesh.vertices.foreach_get("co", co)
-            tris = np.empty(count * 3, dtype=np.int32)
-            mesh.loop_triangles.foreach_get("vertices", tris)
+            positions, triangles = triangle_arrays(mesh)
+        if not len(triangles):
+            continue
         matrix = np.array(other.matrix_world, dtype=np.float64)
-        world = co.reshape(-1, 3).astype(np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
-        yield world, tris.reshape(-1, 3).astype(np.int64)
+        yield positions @ matrix[:3, :3].T + matrix[:3, 3], triangles
 
 
 def mesh_boxes(scene, depsgraph):

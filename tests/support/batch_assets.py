@@ -3,7 +3,8 @@
     make_asset_folder(folder, marker) -> {kind: path}
 
 - ``with_uv.glb``: a box on a floor slab, unwrapped (UVMap), one material shared by both;
-- ``no_uv.glb``: a bowl-like open cylinder standing on a plate, no UV map, no material;
+- ``no_uv.glb``: an open cylinder and an instance of it (one glTF mesh, two nodes) standing on a
+  plate, no UV map, no material;
 - ``monkey.obj``: Suzanne on a plate (UVs from the primitive);
 - ``room.blend``: a box in a corner, with a text block registered to run on load that
   would write ``marker``: a batch must never run it;
@@ -53,6 +54,9 @@ def no_uv_glb(path):
     for ob in (cup, plate):
         while ob.data.uv_layers:
             ob.data.uv_layers.remove(ob.data.uv_layers[0])
+    twin = cup.copy()                        # an instance: glTF writes one mesh used by two nodes
+    twin.location.x += 1.3
+    bpy.context.scene.collection.objects.link(twin)
     _export_glb(path)
 
 

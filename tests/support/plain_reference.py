@@ -27,9 +27,7 @@ def plain_ao(positions, triangles, points, shading, geometric, max_distance, ray
     rng = np.random.default_rng(seed)
     out = np.empty(len(points))
     for k, (point, normal, face_normal) in enumerate(zip(points, shading, geometric)):
-        tangent = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
-        tangent /= np.linalg.norm(tangent)
-        bitangent = np.cross(normal, tangent)
+        tangent, bitangent = _frame(normal)
         u1, u2 = rng.random(rays), rng.random(rays)
         radius, angle = np.sqrt(u1), 2.0 * np.pi * u2
         directions = (np.outer(radius * np.cos(angle), tangent) + np.outer(radius * np.sin(angle), bitangent)
@@ -92,11 +90,16 @@ def hidden(positions, triangles, triangle, points, tolerance=1e-6):
     return out
 
 
-def _enclosed(tree, origin, normal):
-    """Whether rays from ``origin`` along ``normal`` and six directions 60° off it all first meet a back face."""
+def _frame(normal):
+    """Two unit vectors (3,) completing the unit ``normal`` (3,) to an orthonormal frame."""
     tangent = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
     tangent /= np.linalg.norm(tangent)
-    bitangent = np.cross(normal, tangent)
+    return tangent, np.cross(normal, tangent)
+
+
+def _enclosed(tree, origin, normal):
+    """Whether rays from ``origin`` along ``normal`` and six directions 60° off it all first meet a back face."""
+    tangent, bitangent = _frame(normal)
     angle = np.arange(6) * np.pi / 3 + 0.1                           # off the axes, so no ray runs along a wall
     directions = np.vstack([normal, 0.5 * normal + np.sqrt(0.75) * (np.outer(np.cos(angle), tangent)
                                                                     + np.outer(np.sin(angle), bitangent))])
