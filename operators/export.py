@@ -109,7 +109,8 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
         values, _ = resample_to_uv(ao_image, layer_uv, mesh.corner_normals, target_uv, settings.size,
                                    settings.padding, mesh.degenerate,
                                    *node_inputs(ob, mesh.triangle_face, settings.material_strength))
-        image, _ = store_float_image("{}_AO_{}".format(ob.name, target), values, marks=(OURS_KEY, EXPORT_KEY))
+        image, _ = store_float_image("{}_AO_{}".format(ob.name, target), values, marks=(OURS_KEY, EXPORT_KEY),
+                                     keep_undo=False)
         if settings.gltf_occlusion:
             for material in {s.material for s in ob.material_slots if s.material is not None}:
                 hook_gltf_occlusion(material, image, target)

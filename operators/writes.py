@@ -156,25 +156,19 @@ class Transaction:
         return warnings
 
 
-def store_float_image(name, values, marks=(OURS_KEY,)):
+def store_float_image(name, values, marks=(OURS_KEY,), keep_undo=True):
     """The image ``name`` holding ``values`` (height, width) as grey: float, Non-Color, packed into the .blend.
 
     Made new (with the custom properties ``marks`` set), or, if Seamless AO
     made it, overwritten in place.  Returns ``(image, undo)``; ``undo()`` puts
-    back what was there before.
+    back what was there before (``None`` with ``keep_undo`` off: the old
+    pixels are then not even read).
     """
     height, width = values.shape
     image = bpy.data.images.get(name)
     if image is not None and image.get(OURS_KEY):
-        old_size = tuple(image.size)
-        old_pixels = np.empty(len(image.pixels), dtype=np.float32)
-        image.pixels.foreach_get(old_pixels)
+        undo = _pixels_undo(image) if keep_undo else None
         _regenerate(image, width, height)
-
-        def undo(image=image, size=old_size, pixels=old_pixels):
-            _regenerate(image, *size)
-            image.pixels.foreach_set(pixels)
-            image.pack()
     else:
         image = bpy.data.images.new(name, width, height, alpha=False, float_buffer=True)
         for key in marks:
@@ -187,6 +181,19 @@ def store_float_image(name, values, marks=(OURS_KEY,)):
     image.pixels.foreach_set(grey_pixels(values))
     image.pack()
     return image, undo
+
+
+def _pixels_undo(image):
+    """A function that puts ``image``'s current size and pixels back."""
+    size = tuple(image.size)
+    pixels = np.empty(len(image.pixels), dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+
+    def undo():
+        _regenerate(image, *size)
+        image.pixels.foreach_set(pixels)
+        image.pack()
+    return undo
 
 
 def grey_pixels(values):
