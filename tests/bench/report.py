@@ -37,7 +37,7 @@ from common import markdown_table
 
 import bpy
 
-from accuracy import errors, reference_ao, shown_seamless, shown_single_uv, surface_samples
+from accuracy import errors, reference_ao, shown_seamless, shown_single_uv, surface_samples, world_map
 from blender_scenes import cornell_box, sphere_over_plane, suzanne
 from cycles_baseline import UV_NAME, cycles_ao_bake
 from plain_reference import hidden
@@ -99,18 +99,23 @@ def fresh(mesh_name):
     return ob
 
 
-def mesh_key(mesh):
-    """Cache key of a reference: the mesh, the points, the rays and the reference's own code."""
+def mesh_key(ob, mesh):
+    """Cache key of a reference: the mesh as it stands in the world, the points, the rays, the maximum
+    distance and falloff (binary, half the world diagonal: reference_ao's only mode) and the reference's
+    own code."""
     code = (pathlib.Path(__file__).resolve().parent.parent / "support" / "plain_reference.py").read_bytes()
     code += (pathlib.Path(__file__).resolve().parent.parent / "support" / "accuracy.py").read_bytes()
-    digest = hashlib.sha1(mesh.positions.tobytes() + mesh.triangles.tobytes() + code).hexdigest()[:12]
+    world, _ = world_map(ob)(mesh.positions)
+    distance = 0.5 * float(np.linalg.norm(world.max(axis=0) - world.min(axis=0)))
+    conventions = "falloff=binary distance={!r}".format(distance).encode()
+    digest = hashlib.sha1(world.tobytes() + mesh.triangles.tobytes() + conventions + code).hexdigest()[:12]
     return "{}-{}-{}".format(digest, POINTS, REFERENCE_RAYS)
 
 
 def reference(ob, mesh, cache):
     """Reference AO at POINTS random points, cached in ``cache``."""
     triangle, bary, normals = surface_samples(mesh, POINTS, seed=5)
-    path = cache / "{}-{}.npy".format(ob.name.replace(" ", "_"), mesh_key(mesh))
+    path = cache / "{}-{}.npy".format(ob.name.replace(" ", "_"), mesh_key(ob, mesh))
     if path.exists():
         return triangle, bary, normals, np.load(path), 0.0
     start = time.perf_counter()
