@@ -64,7 +64,7 @@ def worker_command(job_path):
 
 def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, new_uv=False,
           color_attribute=None, texture_size=EXPORT_DEFAULTS.size, texture_padding=EXPORT_DEFAULTS.padding,
-          report=None, progress=None, **settings):
+          report=None, progress=None, timeout=None, **settings):
     """Bake every asset found in ``paths``; returns one :class:`~..core.batch.AssetRecord` per asset.
 
     Parameters
@@ -93,6 +93,9 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         Write a JSON report here (schema in the README).
     progress : callable(str), optional
         Called with one line per finished asset; default: print to stderr.
+    timeout : float, optional
+        Seconds an asset may take; a worker still running then is stopped
+        and its asset reported failed.  Default: no limit.
     **settings
         Any bake setting (:class:`~..core.settings.BakeSettings`), e.g.
         ``rays=32``; the others take their defaults, not a scene's, except
@@ -105,6 +108,12 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         For a bad setting, or when ``paths`` name no asset at all.
     """
     bake_settings = BakeSettings.from_kwargs(**dict(BATCH_DEFAULTS, **settings))
+    if bake_settings.save_image != "NONE":
+        raise SeamlessAOError("save_image is not available in a batch: the AO goes into each output file (packed "
+                              "into the .blend, embedded in the .glb), and files beside the inputs would leave "
+                              "the output folder")
+    if timeout is not None and not timeout > 0:
+        raise SeamlessAOError("timeout must be a number of seconds above 0 (got {!r})".format(timeout))
     export = ExportSettings.from_kwargs(size=texture_size, padding=texture_padding)
     if color_attribute is not None and color_attribute not in [item[0] for item in DOMAIN_ITEMS]:
         raise SeamlessAOError("color_attribute must be one of {} (got {!r})".format(
@@ -144,7 +153,7 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         progress(progress_line(len(records), total, record, time.perf_counter() - started))
 
     with tempfile.TemporaryDirectory(prefix="seamless_ao_batch_") as scratch:
-        for record in _run_workers(queue, outputs, job_options, jobs, scratch):
+        for record in _run_workers(queue, outputs, job_options, jobs, scratch, timeout):
             records.append(record)
             write_stamp(record.output, record.input, digest, record)
             progress(progress_line(len(records), total, record, time.perf_counter() - started))
@@ -153,8 +162,9 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
     return records
 
 
-def _run_workers(queue, outputs, job_options, jobs, scratch):
-    """Yield each asset's record as its worker finishes, keeping ``jobs`` workers busy."""
+def _run_workers(queue, outputs, job_options, jobs, scratch, timeout=None):
+    """Yield each asset's record as its worker finishes, keeping ``jobs`` workers busy; a worker running
+    longer than ``timeout`` seconds is killed."""
     queue = list(queue)
     running = []
     number = 0
@@ -171,15 +181,25 @@ def _run_workers(queue, outputs, job_options, jobs, scratch):
             with open(log_path, "w", encoding="utf-8") as log:
                 process = subprocess.Popen(worker_command(job_path), stdout=log, stderr=subprocess.STDOUT,
                                            stdin=subprocess.DEVNULL)
-            running.append((process, job, log_path))
+            running.append((process, job, log_path, time.perf_counter()))
         time.sleep(0.05)
-        for entry in [e for e in running if e[0].poll() is not None]:
-            running.remove(entry)
-            yield _collect(*entry)
+        for entry in list(running):
+            process, job, log_path, started = entry
+            late = timeout is not None and time.perf_counter() - started > timeout
+            if late and process.poll() is None:
+                process.kill()
+                process.wait()
+            if process.poll() is not None:
+                running.remove(entry)
+                yield _collect(process, job, log_path, timeout if late else None)
 
 
-def _collect(process, job, log_path):
-    """The record a worker wrote, or one that says how the worker died."""
+def _collect(process, job, log_path, timed_out=None):
+    """The record a worker wrote, or one that says how the worker died (or that it was stopped after
+    ``timed_out`` seconds)."""
+    if timed_out is not None:
+        return AssetRecord(input=job["input"], output=job["output"], seconds={"total": float(timed_out)},
+                           error="stopped after {:g} s (--timeout); the asset took longer".format(timed_out))
     try:
         with open(job["record"], encoding="utf-8") as handle:
             return AssetRecord(**json.load(handle))

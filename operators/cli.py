@@ -73,6 +73,8 @@ def add_batch_parser(actions):
     batch_parser.add_argument("--texture-padding", type=int, default=DEFAULT_EXPORT.padding, metavar="N",
                               help="glTF out: texels of dilation around UV islands (default %(default)s)")
     batch_parser.add_argument("--report", metavar="FILE.json", help="write a JSON report, one record per asset")
+    batch_parser.add_argument("--timeout", type=float, metavar="SECONDS",
+                              help="stop an asset's worker after this long and report the asset failed")
     add_options(batch_parser, setting_fields())
 
 
@@ -175,7 +177,7 @@ def run_batch(args):
                         force=args.force, per_object=args.per_object, new_uv=args.new_uv,
                         color_attribute=args.color_attribute,
                         texture_size=args.texture_size, texture_padding=args.texture_padding, report=args.report,
-                        **bake_options(args))
+                        timeout=args.timeout, **bake_options(args))
     except SeamlessAOError as error:
         print("seamless_ao: error: {}".format(error), file=sys.stderr)
         return 2

@@ -203,3 +203,13 @@ def test_bad_batch_requests_get_a_sentence(tmp_path):
         seamless_ao.batch([str(tmp_path / "notes.txt")])
     with pytest.raises(SeamlessAOError, match="rays"):
         seamless_ao.batch([str(tmp_path)], rays=0)
+    with pytest.raises(SeamlessAOError, match="save_image is not available in a batch"):
+        seamless_ao.batch([str(tmp_path)], save_image="PNG")
+
+
+def test_an_asset_over_the_timeout_is_stopped_and_reported(first_run, tmp_path):
+    records = seamless_ao.batch([str(first_run["assets"]["obj"])], output_dir=str(tmp_path), jobs=1, timeout=0.2,
+                                progress=lambda line: None)
+    assert [r.status for r in records] == ["failed"]
+    assert records[0].error == "stopped after 0.2 s (--timeout); the asset took longer"
+    assert not any(tmp_path.glob("*.glb"))
