@@ -12,6 +12,7 @@ Python API (also what the operator and the command line use)::
     seamless_ao.resample([obj], uv_map="UVMap", size=2048)     # glTF-ready texture
     seamless_ao.to_color_attribute([obj])                      # colour attribute "AO"
     seamless_ao.clear([obj])
+    seamless_ao.batch(["assets/"], output_dir="baked/")        # asset files, in worker processes
 
 The package must be imported with relative imports only: Blender loads it as
 ``bl_ext.<repository>.seamless_ao``, the tests under another name.
