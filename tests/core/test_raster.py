@@ -1,0 +1,92 @@
+"""The rasteriser's shortcut: near texels come from the triangles on the border of what is drawn."""
+
+import numpy as np
+import pytest
+
+from seamless_ao.core.raster import NEAR, closest_barycentric, point_keys, rasterise_triangles, rim_triangles
+
+
+def grid(columns, rows, cell, jitter, seed, holes=0):
+    """A jittered grid of quads (two triangles each) in texel coordinates, some cells removed.
+
+    Returns ``uv`` (k, 3, 2) float64 with shared corners bit-identical, and ``corner`` (k, 3) int vertex ids.
+    """
+    rng = np.random.default_rng(seed)
+    x, y = np.meshgrid(np.arange(columns + 1), np.arange(rows + 1))
+    points = np.stack([x.ravel(), y.ravel()], axis=1) * cell + 3.0
+    points += rng.uniform(-jitter, jitter, points.shape) * cell
+    vertex = lambda i, j: j * (columns + 1) + i  # noqa: E731
+    corners = []
+    for j in range(rows):
+        for i in range(columns):
+            a, b, c, d = vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1)
+            corners += [[a, b, c], [a, c, d]] if (i + j) % 2 else [[a, b, d], [b, c, d]]
+    corners = np.array(corners)
+    keep = np.ones(len(corners), dtype=bool)
+    keep[rng.choice(len(corners), holes, replace=False)] = False
+    return points[corners[keep]], corners[keep]
+
+
+def brute_force_rim(uv):
+    """A triangle is on the rim when a point just outside one of its sides lies in no triangle."""
+    rim = np.zeros(len(uv), dtype=bool)
+    for t, tri in enumerate(uv):
+        centre = tri.mean(axis=0)
+        for k in range(3):
+            p, q = tri[k], tri[(k + 1) % 3]
+            middle = 0.5 * (p + q)
+            outward = middle - centre
+            normal = np.array([q[1] - p[1], p[0] - q[0]])
+            normal *= np.sign(normal @ outward) / np.linalg.norm(normal)
+            probe = middle + 1e-7 * normal
+            a, b, c = uv[:, 0], uv[:, 1], uv[:, 2]
+            cross = lambda u, v: u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]  # noqa: E731
+            s = np.stack([cross(b - a, probe - a), cross(c - b, probe - b), cross(a - c, probe - c)], axis=1)
+            inside = (s > 0).all(axis=1) | (s < 0).all(axis=1)
+            rim[t] |= not inside.any()
+    return rim
+
+
+@pytest.mark.parametrize("holes", [0, 9])
+def test_rim_triangles_are_those_with_a_side_on_the_border(holes):
+    uv, corner = grid(7, 5, 3.0, 0.2, seed=holes, holes=holes)
+    rim = rim_triangles(corner)
+    assert np.array_equal(rim, brute_force_rim(uv))
+    assert 0 < rim.sum() < len(uv)                      # the grid has inner triangles
+    assert np.array_equal(rim_triangles(point_keys(uv.reshape(-1, 2)).reshape(-1, 3)), rim)
+
+
+def test_a_side_shared_the_same_way_round_is_a_border():
+    # triangle 0's sides 1-2 and 2-0 are shared the right way round, but 0-1 only by a triangle
+    # folded onto the same side (0-1 again, not 1-0): it is on the border
+    corner = np.array([[0, 1, 2], [2, 1, 5], [0, 2, 6], [0, 1, 3]])
+    assert rim_triangles(corner)[0]
+    assert not rim_triangles(np.array([[0, 1, 2], [2, 1, 5], [0, 2, 6], [1, 0, 3]]))[0]
+    # three triangles on one side: a run of three is never inside
+    assert rim_triangles(np.array([[0, 1, 2], [1, 0, 3], [1, 0, 4]])).all()
+    assert rim_triangles(np.array([[0, 1, 2], [1, 0, 3]])).all()        # each has two free sides
+
+
+def sampled_distance(texels, uv):
+    x = texels.index % texels.width + 0.5
+    y = texels.index // texels.width + 0.5
+    b = np.stack(closest_barycentric(uv[texels.member], x, y), axis=1)
+    point = (b[:, :, None] * uv[texels.member]).sum(axis=1)
+    return np.hypot(point[:, 0] - x, point[:, 1] - y)
+
+
+@pytest.mark.parametrize("cell, jitter, holes", [(3.0, 0.25, 0), (0.7, 0.3, 11), (1.6, 0.45, 25)])
+def test_near_texels_from_the_rim_are_those_from_every_triangle(cell, jitter, holes):
+    uv, _ = grid(23, 17, cell, jitter, seed=holes, holes=holes)
+    live = np.arange(len(uv))
+    size = int(np.ceil(uv.max())) + 4
+    shortcut = rasterise_triangles(uv, live, size, size, padding=2)
+    every = rasterise_triangles(uv, live, size, size, padding=2, rim=np.ones(len(live), dtype=bool))
+    assert np.array_equal(shortcut.index, every.index)
+    assert np.array_equal(shortcut.kind, every.kind)
+    assert (shortcut.kind == NEAR).sum() > 20
+    near = shortcut.kind == NEAR
+    # either way the texel samples a point its bilinear footprint reaches (the winner may differ
+    # where a triangle off the rim scores as well as the rim's)
+    assert sampled_distance(shortcut, uv)[near].max() <= np.sqrt(2.0) + 1e-9
+    assert sampled_distance(every, uv)[near].max() <= np.sqrt(2.0) + 1e-9
