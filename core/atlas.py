@@ -18,7 +18,6 @@ import numpy as np
 from .clustering import project
 from .cover import chart_covers
 from .errors import SeamlessAOError
-from .mesh import cross2d
 from .packing import MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density
 
 
@@ -110,10 +109,13 @@ def chart_members(mesh, charts):
 
 
 def chart_plane_area(mesh, charts):
-    """Total area of all charts in their planes (object units squared)."""
-    member_triangle, member_chart, _ = chart_members(mesh, charts)
-    uv, _ = project(mesh.positions[mesh.triangles[member_triangle]], charts.chart_axis[member_chart][:, None])
-    return _plane_area(uv)
+    """Total area of all charts in their planes (object units squared).
+
+    A triangle's area projected on an axis plane is half the axis component of
+    its cross product, so no projection is needed.
+    """
+    on_axis = charts.chart_of_face[mesh.triangle_face] >= 0                 # (t, 3)
+    return float(0.5 * np.abs(mesh.triangle_cross)[on_axis].sum())
 
 
 def estimate_density(area, image_size, utilisation=0.55):
@@ -163,7 +165,8 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     live = ~mesh.degenerate[member_triangle]
     if not live.any():
         raise SeamlessAOError("The mesh has no face with area; there is nothing to pack")
-    area = _plane_area(local_uv[live])
+    member_area = 0.5 * np.abs(mesh.triangle_cross[member_triangle, charts.chart_axis[member_chart] // 2])
+    area = float(member_area[live].sum())
     expected = density if density is not None else estimate_density(area, image_size, 0.7)
     covers = chart_covers(local_uv[live], member_chart[live], charts.count, expected)
     if image_size is not None:
@@ -212,7 +215,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     point_member[placement.point_texel < 0] = -1
     width, height = placement.width, placement.height
     point_texels = len(np.unique(placement.point_texel[placement.point_texel >= 0]))
-    drawn_area = _plane_area(local_uv[live & (placement.point_texel[member_chart[:len(live)]] < 0)])
+    drawn_area = float(member_area[live & (placement.point_texel[member_chart[:len(live)]] < 0)].sum())
     return Atlas(
         width=width, height=height, density=placement.density,
         utilisation=float(min(1.0, (drawn_area * placement.density**2 + point_texels) / (width * height))),
@@ -223,14 +226,10 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
         padding=padding, warnings=placement.warnings())
 
 
-def _plane_area(local_uv):
-    """Total area of 2D triangles (m, 3, 2)."""
-    return float(0.5 * np.abs(cross2d(local_uv[:, 1] - local_uv[:, 0], local_uv[:, 2] - local_uv[:, 0])).sum())
-
-
 def _chart_centres(mesh, member_triangle, member_chart, chart_count):
     """(c, 3) mean of the triangle centres of each chart (object units)."""
-    centre = mesh.positions[mesh.triangles[member_triangle]].mean(axis=1)
+    corners = mesh.positions[mesh.triangles]
+    centre = ((corners[:, 0] + corners[:, 1] + corners[:, 2]) / 3.0)[member_triangle]
     count = np.maximum(np.bincount(member_chart, minlength=chart_count), 1)
     return np.stack([np.bincount(member_chart, centre[:, k], chart_count) for k in range(3)], axis=1) / count[:, None]
 
@@ -250,8 +249,11 @@ def _largest_member(mesh, member_triangle, member_chart, chart_count, placed_cou
 
 
 def _apply(transform, points):
-    """Affine ``transform`` (..., 2, 3) applied to ``points`` (..., k, 2)."""
-    return np.einsum("...ij,...kj->...ki", transform[..., :2], points) + transform[..., None, :, 2]
+    """Affine ``transform`` (m, 2, 3) applied to ``points`` (m, k, 2)."""
+    u, v = points[..., 0], points[..., 1]
+    t = transform[:, None]                                                  # (m, 1, 2, 3)
+    return np.stack([t[..., 0, 0] * u + t[..., 0, 1] * v + t[..., 0, 2],
+                     t[..., 1, 0] * u + t[..., 1, 1] * v + t[..., 1, 2]], axis=-1)
 
 
 def _adopt_orphans(mesh, topology, charts):

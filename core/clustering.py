@@ -25,7 +25,7 @@ import numpy as np
 
 from .graph import Adjacency, connected_components
 from .mesh import group_boxes
-from .overlap import fold_conflicts, overwound_vertices
+from .overlap import FoldMemory, fold_conflicts, overwound_vertices
 
 #: (6, 3) unit vector of each signed axis.
 AXES = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64)
@@ -61,13 +61,22 @@ def project(points, signed_axis):
     uv : (..., 2) float64, object units
     depth : (...,) float64, distance along the signed axis
     """
-    signed_axis = np.asarray(signed_axis)
+    points = np.asarray(points, dtype=np.float64)
+    signed_axis = np.broadcast_to(np.asarray(signed_axis), points.shape[:-1])
+    uv = np.empty(points.shape[:-1] + (2,))
+    depth = np.empty(points.shape[:-1])
+    if not signed_axis.size:
+        return uv, depth
     axis = signed_axis // 2
-    pick = np.broadcast_to(np.stack([_U_COMPONENT[axis], _V_COMPONENT[axis], axis], -1),
-                           points.shape[:-1] + (3,))
-    coords = np.take_along_axis(points, pick, axis=-1)
-    uv = coords[..., :2] * np.stack([_U_SIGN[signed_axis], _V_SIGN[signed_axis]], -1)
-    depth = coords[..., 2] * _DEPTH_SIGN[signed_axis]
+    for a in range(int(axis.min()), int(axis.max()) + 1):
+        if axis.min() == axis.max():                  # one axis (every chart of it): no masks
+            p, s, into = points, signed_axis, (Ellipsis,)
+        else:
+            into = (axis == a,)
+            p, s = points[into], signed_axis[into]
+        uv[into + (0,)] = p[..., _U_COMPONENT[a]] * _U_SIGN[s]
+        uv[into + (1,)] = p[..., _V_COMPONENT[a]] * _V_SIGN[s]
+        depth[into] = p[..., a] * _DEPTH_SIGN[s]
     return uv, depth
 
 
@@ -230,6 +239,7 @@ def make_injective(mesh, topology, charts, margin=0.0):
         # A split chart keeps its signed axis, so the projection is the same every round.
         first_group, uv, depth, slope = triangle_chart_geometry(mesh, charts, axis)
         fan_vertices = overwound_vertices(uv, first_group, topology.welded_triangles)
+        memory = FoldMemory(len(mesh.triangles))
         while True:
             group = chart_of_face[mesh.triangle_face, axis].copy()
             group[mesh.degenerate] = -1
@@ -237,7 +247,7 @@ def make_injective(mesh, topology, charts, margin=0.0):
                 group[~dirty[np.maximum(group, 0)]] = -1
             pairs = fold_conflicts(
                 uv, depth, group, topology.welded_triangles, mesh.triangle_face,
-                SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope, fan_vertices)
+                SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope, fan_vertices, memory)
             if not len(pairs):
                 break
             round_number += 1

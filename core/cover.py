@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .graph import index_in_runs
-from .mesh import band_x_extent, group_boxes
+from .mesh import band_x_extent, corner_max, corner_min, group_boxes
 
 #: Most bands per chart (a chart's cover has twice as many triangles).
 MAX_ROWS = 32
@@ -79,8 +79,8 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     band = np.where(height > 0, height / rows, 1.0)                          # (c,) band height
 
     # every (member, band) pair the member's y-range touches
-    y_min = local_uv[:, :, 1].min(axis=1)
-    y_max = local_uv[:, :, 1].max(axis=1)
+    y_min = corner_min(local_uv[:, :, 1])
+    y_max = corner_max(local_uv[:, :, 1])
     chart_low_y, chart_band = low[member_chart, 1], band[member_chart]
     last = rows[member_chart] - 1
     r0 = np.clip(np.floor((y_min - chart_low_y) / chart_band), 0, last).astype(np.int64)
@@ -99,7 +99,7 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     band_high = np.where(pair_row == last[pair_member], band_high + reach, band_high)
     x0, x1 = band_x_extent(local_uv[pair_member], band_low, band_high)
     whole = np.flatnonzero(short)
-    whole_low, whole_high = local_uv[whole, :, 0].min(axis=1), local_uv[whole, :, 0].max(axis=1)
+    whole_low, whole_high = corner_min(local_uv[whole, :, 0]), corner_max(local_uv[whole, :, 0])
     x0 = np.concatenate([whole_low, whole_low, x0])
     x1 = np.concatenate([whole_high, whole_high, x1])
     pair_member = np.concatenate([whole, whole, pair_member])

@@ -18,6 +18,21 @@ def cross2d(a, b):
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
+def corner_min(shape):
+    """Smallest of each shape's corners: ``shape`` (k, c, ...) -> (k, ...) (c = 2 or 3).
+
+    The same as ``shape.min(axis=1)``, several times faster for so few corners.
+    """
+    low = np.minimum(shape[:, 0], shape[:, 1])
+    return np.minimum(low, shape[:, 2]) if shape.shape[1] > 2 else low
+
+
+def corner_max(shape):
+    """Largest of each shape's corners: ``shape`` (k, c, ...) -> (k, ...) (c = 2 or 3)."""
+    high = np.maximum(shape[:, 0], shape[:, 1])
+    return np.maximum(high, shape[:, 2]) if shape.shape[1] > 2 else high
+
+
 def group_boxes(triangle, group, count):
     """Bounding box of each group of 2D triangles: ``low, high`` (count, 2) float64.
 
@@ -26,8 +41,8 @@ def group_boxes(triangle, group, count):
     """
     low = np.full((count, 2), np.inf)
     high = np.full((count, 2), -np.inf)
-    np.minimum.at(low, group, triangle.min(axis=1))
-    np.maximum.at(high, group, triangle.max(axis=1))
+    np.minimum.at(low, group, corner_min(triangle))
+    np.maximum.at(high, group, corner_max(triangle))
     return low, high
 
 
@@ -54,29 +69,6 @@ def band_x_extent(triangle, band_low, band_high):
             at = px + (line - py) * (qx - px) / np.where(dy != 0, dy, 1.0)
             low = np.where(crosses, np.minimum(low, at), low)
             high = np.where(crosses, np.maximum(high, at), high)
-    return low, high
-
-
-def line_x_extent(triangle, line_y):
-    """x-extent of each 2D triangle (r, 3, 2) along a horizontal line ``y = line_y`` (r,).
-
-    The line meets the triangle in a segment between crossings of its edges
-    (or a corner on the line); returns ``(low, high)``, ``(inf, -inf)`` where
-    the line misses it.
-    """
-    low = np.full(len(triangle), np.inf)
-    high = np.full(len(triangle), -np.inf)
-    x, y = triangle[..., 0], triangle[..., 1]
-    for k in range(3):
-        px, py, qx, qy = x[:, k], y[:, k], x[:, (k + 1) % 3], y[:, (k + 1) % 3]
-        dy = qy - py
-        crosses = (np.minimum(py, qy) <= line_y) & (line_y <= np.maximum(py, qy))
-        flat = dy == 0                                   # an edge along the line: both its ends
-        at = px + (line_y - py) * (qx - px) / np.where(flat, 1.0, dy)
-        at_low = np.where(flat, np.minimum(px, qx), at)
-        at_high = np.where(flat, np.maximum(px, qx), at)
-        low = np.where(crosses, np.minimum(low, at_low), low)
-        high = np.where(crosses, np.maximum(high, at_high), high)
     return low, high
 
 

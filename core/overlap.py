@@ -10,10 +10,10 @@ never O(n²).
 import numpy as np
 
 from .graph import index_in_runs, pairs_within_groups
-from .mesh import cross2d
+from .mesh import corner_max, corner_min, cross2d
 
 
-def candidate_pairs(uv, group, margin=0.0):
+def candidate_pairs(uv, group, margin=0.0, query=None):
     """Pairs of shapes of the same group whose 2D boxes come within ``margin``.
 
     Parameters
@@ -24,6 +24,9 @@ def candidate_pairs(uv, group, margin=0.0):
         Chart of each triangle; ``-1`` triangles are left out.
     margin : float
         Extra distance, in ``uv`` units.
+    query : (t,) bool, optional
+        Only pairs with at least one of these shapes (the grid cells no query
+        shape touches are never paired up).
 
     Returns
     -------
@@ -32,8 +35,8 @@ def candidate_pairs(uv, group, margin=0.0):
     live = np.flatnonzero(group >= 0)
     if len(live) < 2:
         return np.zeros((0, 2), dtype=np.int64)
-    low = uv[live].min(axis=1) - 0.5 * margin
-    high = uv[live].max(axis=1) + 0.5 * margin
+    low = corner_min(uv[live]) - 0.5 * margin
+    high = corner_max(uv[live]) + 0.5 * margin
     extent = high - low
     # Cells about the size of a typical triangle, but never so small that the
     # few huge triangles of a mixed mesh fill millions of cells.
@@ -51,6 +54,13 @@ def candidate_pairs(uv, group, margin=0.0):
     local = index_in_runs(count)
     cell_x = first[entry, 0] + local % span[entry, 0]
     cell_y = first[entry, 1] + local // span[entry, 0]
+    if query is not None:
+        # only the cells a query shape touches (one int64 key per group and cell)
+        span_x = int(last[:, 0].max()) + 1
+        span_y = int(last[:, 1].max()) + 1
+        key = (group[live][entry] * span_y + cell_y) * span_x + cell_x
+        touched = np.isin(key, key[query[live][entry]])
+        entry, cell_x, cell_y = entry[touched], cell_x[touched], cell_y[touched]
     order = np.lexsort((cell_y, cell_x, group[live][entry]))
     entry, cell_x, cell_y = entry[order], cell_x[order], cell_y[order]
     key_change = np.ones(len(entry), dtype=bool)
@@ -61,6 +71,8 @@ def candidate_pairs(uv, group, margin=0.0):
     pairs = live[entry[pairs_within_groups(starts)]]
     if not len(pairs):
         return np.zeros((0, 2), dtype=np.int64)
+    if query is not None:
+        pairs = pairs[query[pairs[:, 0]] | query[pairs[:, 1]]]
     pairs = np.sort(pairs, axis=1)
     keys = np.unique(pairs[:, 0] * np.int64(len(uv)) + pairs[:, 1])
     return np.stack([keys // len(uv), keys % len(uv)], axis=1)
@@ -184,7 +196,7 @@ def overlapping_triangles(uv, depth, group, welded_triangles, triangle_face, dep
     pairs = candidate_pairs(uv, group)
     if not len(pairs):
         return pairs
-    low, high = uv.min(axis=1), uv.max(axis=1)
+    low, high = corner_min(uv), corner_max(uv)
     a, b = pairs[:, 0], pairs[:, 1]
     boxes_touch = ((low[a] <= high[b]) & (low[b] <= high[a])).all(axis=1)
     pairs = pairs[boxes_touch & (triangle_face[a] != triangle_face[b])]
@@ -276,9 +288,14 @@ def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
     if fan_vertices is not None:
         keep = fan_vertices[vertex]
         triangle, corner, vertex = triangle[keep], corner[keep], vertex[keep]
+        angle = _corner_angles(uv, triangle, corner)
+    else:                                   # every corner: whole triangles, no per-corner gather
+        corners = uv[live]
+        e1 = corners[:, [1, 2, 0]] - corners
+        e2 = corners[:, [2, 0, 1]] - corners
+        angle = np.abs(np.arctan2(cross2d(e1, e2), (e1 * e2).sum(-1))).ravel()
     if not len(vertex):
         return
-    angle = _corner_angles(uv, triangle, corner)
     order = np.lexsort((vertex, group[triangle]))
     v_sorted, g_sorted = vertex[order], group[triangle][order]
     change = np.ones(len(order), dtype=bool)
@@ -303,8 +320,28 @@ def overwound_vertices(uv, group, welded_triangles):
     return mask
 
 
+class FoldMemory:
+    """What :func:`fold_conflicts` learnt of one axis's charts, for the next round after a split.
+
+    Splitting a chart keeps every boundary side a boundary side (of the piece
+    holding its triangle), and whether two boundary sides conflict depends on
+    the two sides alone.  So after a split only the new boundary sides (the
+    cuts) need pairing up; the conflicts found before stay conflicts while
+    both sides stay in one chart.
+
+    Parameters
+    ----------
+    triangle_count : int
+    """
+
+    def __init__(self, triangle_count):
+        self.boundary_side = np.zeros((triangle_count, 3), dtype=bool)   # sides paired up before
+        self.conflicts = np.zeros((0, 2), dtype=np.int64)                 # boundary conflicts, triangle pairs
+        self.rounds = 0
+
+
 def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tolerance, touch, margin=0.0, slope=None,
-                   fan_vertices=None):
+                   fan_vertices=None, memory=None):
     """Triangle pairs that keep a chart from being injective, found from its boundary.
 
     Every triangle of a chart faces the chart's axis, so the projection is an
@@ -337,6 +374,11 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     fan_vertices : (w,) bool, optional
         Look for overwound fans only around these welded vertices
         (:func:`overwound_vertices` of the unsplit charts); all when not given.
+    memory : FoldMemory, optional
+        Kept between the rounds of one axis (the same ``uv``, ``depth``,
+        tolerances and margin, each round's charts pieces of the last's
+        conflicting ones): boundary sides already paired up are not paired
+        again.
 
     Returns
     -------
@@ -370,10 +412,16 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     seg = np.stack([uv[b_tri, b_corner], uv[b_tri, (b_corner + 1) % 3]], axis=1)     # (b, 2, 2)
     seg_depth = np.stack([depth[b_tri, b_corner], depth[b_tri, (b_corner + 1) % 3]], axis=1)
     reach = max(float(touch[live].max()), margin)
-    pairs = candidate_pairs(seg, group[b_tri], reach)
+    fresh = None
+    if memory is not None and memory.rounds:
+        fresh = ~memory.boundary_side[b_tri, b_corner]
+        a, b = memory.conflicts[:, 0], memory.conflicts[:, 1]
+        found.append(memory.conflicts[(group[a] >= 0) & (group[a] == group[b])])
+    pairs = candidate_pairs(seg, group[b_tri], reach, query=fresh)
+    start = len(found)
     if len(pairs):
         # segments whose boxes are further apart than the reach cannot be closer
-        seg_low, seg_high = seg.min(axis=1), seg.max(axis=1)
+        seg_low, seg_high = corner_min(seg), corner_max(seg)
         a, b = pairs[:, 0], pairs[:, 1]
         near = ((seg_low[a] - reach <= seg_high[b]) & (seg_low[b] - reach <= seg_high[a])).all(axis=1)
         a, b = a[near], b[near]
@@ -392,6 +440,10 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         close = (distance <= np.minimum(touch[tri_a], touch[tri_b])) | ((distance <= margin) & (margin > 0))
         hit = close & (np.abs(depth_a - depth_b) > explained)
         found.append(np.stack([b_tri[a][hit], b_tri[b][hit]], 1))
+    if memory is not None:
+        memory.boundary_side[b_tri, b_corner] = True
+        memory.conflicts = np.concatenate(found[start - (1 if fresh is not None else 0):] + [np.zeros((0, 2), np.int64)])
+        memory.rounds += 1
 
     # 2. Vertices whose fan turns more than once.
     for _, members in _overwound_fans(uv, group, welded_triangles, live, fan_vertices):

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .graph import index_in_runs
-from .mesh import band_x_extent, cross2d, line_x_extent
+from .mesh import band_x_extent, corner_max, corner_min, cross2d
 
 COVERED, NEAR, PADDING = 0, 1, 2
 #: Points on a triangle's rim move this far (times the object size) into it: twice
@@ -168,7 +168,7 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     uv = triangle_uv[live]
     if rim is None:
         rim = rim_triangles(point_keys(uv.reshape(-1, 2)).reshape(-1, 3))
-    low, high = uv.min(axis=1), uv.max(axis=1)
+    low, high = corner_min(uv), corner_max(uv)
 
     # Covered texels: every centre inside a triangle (a centre exactly on a
     # shared edge goes to one of the two; both are the same surface there).
@@ -176,10 +176,7 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     if fixed_texel is not None and len(fixed_texel):
         member_map[fixed_texel] = fixed_member
         kind[fixed_texel] = COVERED
-    y0 = np.clip(np.ceil(low[:, 1] - 0.5), 0, height).astype(np.int64)
-    y1 = np.clip(np.floor(high[:, 1] - 0.5), -1, height - 1).astype(np.int64)
-    row_member, row_y = _rows(y0, y1)
-    x0, x1 = line_x_extent(uv[row_member], row_y + 0.5)
+    row_member, row_y, x0, x1 = _covered_rows(uv, height)
     c0 = np.clip(np.ceil(x0 - 0.5), 0, width).astype(np.int64)
     c1 = np.clip(np.floor(x1 - 0.5), -1, width - 1).astype(np.int64)
     for texel, owner in _expand_spans(row_y, c0, c1, row_member, width):
@@ -213,6 +210,46 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     ring = _grow_padding(member_map, kind, width, height, padding)
     index = np.flatnonzero(member_map >= 0)
     return Texels(width, height, index, member_map[index].astype(np.int64), kind[index], ring[index])
+
+
+def _covered_rows(uv, height):
+    """Every texel row whose centre line crosses a triangle, and the crossing's x-extent.
+
+    Each edge is followed from its lower end (lower y, then lower x) with one
+    slope, so two triangles sharing an edge compute the same crossing to the
+    bit and no texel centre on a shared edge falls between them.
+
+    Parameters
+    ----------
+    uv : (k, 3, 2) float64, texel coordinates
+    height : int
+
+    Returns
+    -------
+    triangle, y : (r,) int64, the triangle and row of each crossing
+    x_low, x_high : (r,) float64
+    """
+    x, y = uv[:, :, 0].copy(), uv[:, :, 1].copy()
+    for i, j in ((0, 1), (1, 2), (0, 1)):                   # sort the corners by (y, x)
+        swap = (y[:, j] < y[:, i]) | ((y[:, j] == y[:, i]) & (x[:, j] < x[:, i]))
+        x[swap, i], x[swap, j] = x[swap, j], x[swap, i]
+        y[swap, i], y[swap, j] = y[swap, j], y[swap, i]
+
+    def slope(i, j):
+        rise = y[:, j] - y[:, i]
+        return np.divide(x[:, j] - x[:, i], rise, out=np.zeros(len(rise)), where=rise > 0)
+
+    low_slope, first_slope, second_slope = slope(0, 2), slope(0, 1), slope(1, 2)
+    first_row = np.clip(np.ceil(y[:, 0] - 0.5), 0, height).astype(np.int64)
+    last_row = np.clip(np.floor(y[:, 2] - 0.5), -1, height - 1).astype(np.int64)
+    triangle, row = _rows(first_row, last_row)
+    centre = row + 0.5
+    x0, y0 = x[triangle, 0], y[triangle, 0]
+    along_long = x0 + (centre - y0) * low_slope[triangle]
+    upper = centre >= y[triangle, 1]
+    along_short = np.where(upper, x[triangle, 1] + (centre - y[triangle, 1]) * second_slope[triangle],
+                           x0 + (centre - y0) * first_slope[triangle])
+    return triangle, row, np.minimum(along_long, along_short), np.maximum(along_long, along_short)
 
 
 def _rows(y0, y1):
@@ -288,7 +325,7 @@ def triangle_score(triangle, point):
         distances.append((signed, support))
     inside = np.min([d for d, _ in distances], axis=0)
     reach = np.all([d >= -s - 1e-9 for d, s in distances], axis=0)
-    low, high = triangle.min(axis=1), triangle.max(axis=1)
+    low, high = corner_min(triangle), corner_max(triangle)
     box = np.all((point >= low - 1.0 - 1e-9) & (point <= high + 1.0 + 1e-9), axis=1)
     return np.where(reach & box, inside, -np.inf)
 

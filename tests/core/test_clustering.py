@@ -182,3 +182,36 @@ def test_meshes_baked_together_never_weld_and_keep_their_own_tolerances():
         chart_part = {}
         for chart, p in zip(charts.chart_of_face[in_chart, axis], face_part[in_chart]):
             assert chart_part.setdefault(chart, p) == p, "a chart spans two objects"
+
+
+@pytest.mark.parametrize("make, margin", [
+    (lambda: meshes.spiral_ramp(turns=3.0), 0.05),
+    (lambda: __import__("real_assets").noisy_scan(triangles=20_000), 0.0372),     # many rounds
+], ids=["ramp", "noisy-scan"])
+def test_rounds_after_a_split_pair_up_only_the_cuts(make, margin, monkeypatch):
+    """make_injective remembers the boundary conflicts of a round (FoldMemory) and pairs up only the
+    new boundary sides after a split; the charts must be those of checking every side every round."""
+    from seamless_ao.core import clustering, overlap
+
+    mesh = TriangleMesh.from_triangles(*make(), smooth=True)
+    topology = face_adjacency(mesh)
+    clusters = signed_axis_clusters(mesh, topology)
+    rounds = []
+
+    class Counting(overlap.FoldMemory):
+        def __init__(self, count):
+            super().__init__(count)
+            rounds.append(self)
+
+    monkeypatch.setattr(clustering, "FoldMemory", Counting)
+    remembered = clustering.make_injective(mesh, topology, clusters, margin=margin * mesh.scale)
+    assert max(memory.rounds for memory in rounds) >= 3          # several rounds on one axis
+
+    class Forgetful(overlap.FoldMemory):
+        rounds = property(lambda self: 0, lambda self, value: None)
+
+    monkeypatch.setattr(clustering, "FoldMemory", Forgetful)
+    every_side = clustering.make_injective(mesh, topology, clusters, margin=margin * mesh.scale)
+    assert np.array_equal(remembered.chart_of_face, every_side.chart_of_face)
+    assert np.array_equal(remembered.chart_axis, every_side.chart_axis)
+    assert remembered.count > clusters.count

@@ -11,7 +11,7 @@ from seamless_ao.core.ao import AOParams, ao_params, settle_pilot
 from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.export import vertex_average
-from seamless_ao.core.overlap import segment_distance
+from seamless_ao.core.overlap import candidate_pairs, segment_distance
 from seamless_ao.core.png import png16
 from seamless_ao.core.settings import BakeSettings, ExportSettings
 
@@ -106,3 +106,15 @@ def test_segment_distance_of_collinear_segments_is_their_gap():
     cross, s, u = segment_distance(np.array([[0.0, 0.0]]), np.array([[2.0, 2.0]]),
                                    np.array([[0.0, 2.0]]), np.array([[2.0, 0.0]]))
     assert cross[0] < 1e-12 and abs(s[0] - 0.5) < 1e-12 and abs(u[0] - 0.5) < 1e-12
+
+
+def test_candidate_pairs_with_a_query_are_the_pairs_that_touch_it():
+    rng = np.random.default_rng(3)
+    start = rng.uniform(0, 10, (400, 2))
+    segments = np.stack([start, start + rng.normal(0, 0.3, (400, 2))], axis=1)
+    group = rng.integers(-1, 3, 400)
+    query = rng.random(400) < 0.1
+    every = candidate_pairs(segments, group, 0.5)
+    some = candidate_pairs(segments, group, 0.5, query=query)
+    expected = every[query[every[:, 0]] | query[every[:, 1]]]
+    assert len(expected) > 20 and np.array_equal(some, expected)
