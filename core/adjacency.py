@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .graph import group_starts, pairs_within_groups
+from .graph import group_starts, pairs_within_groups, sort_order
 from .mesh import WELD_TOLERANCE, MeshReport, duplicate_triangle_count, weld_vertices
 
 
@@ -75,7 +75,7 @@ def face_adjacency(mesh, weld_tolerance=WELD_TOLERANCE):
     side_triangle = np.repeat(np.arange(len(mesh.triangles), dtype=np.int64), 3)
     valid = keys >= 0
     keys, side_triangle = keys[valid], side_triangle[valid]
-    order = np.lexsort((mesh.triangle_face[side_triangle], keys))
+    order = sort_order(keys, mesh.triangle_face[side_triangle])
     keys, side_face = keys[order], mesh.triangle_face[side_triangle[order]]
     sides_per_edge = np.diff(group_starts(keys))
 
@@ -115,7 +115,7 @@ def unique_rows(pairs):
     pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
     if not len(pairs):
         return pairs
-    order = np.lexsort((pairs[:, 1], pairs[:, 0]))
+    order = sort_order(pairs[:, 0], pairs[:, 1])
     pairs = pairs[order]
     keep = np.ones(len(pairs), dtype=bool)
     keep[1:] = (pairs[1:] != pairs[:-1]).any(axis=1)

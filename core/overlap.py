@@ -9,7 +9,7 @@ never O(n²).
 
 import numpy as np
 
-from .graph import index_in_runs, pairs_within_groups
+from .graph import index_in_runs, pairs_within_groups, sort_order
 from .mesh import corner_max, corner_min, cross2d
 
 
@@ -61,7 +61,7 @@ def candidate_pairs(uv, group, margin=0.0, query=None):
         key = (group[live][entry] * span_y + cell_y) * span_x + cell_x
         touched = np.isin(key, key[query[live][entry]])
         entry, cell_x, cell_y = entry[touched], cell_x[touched], cell_y[touched]
-    order = np.lexsort((cell_y, cell_x, group[live][entry]))
+    order = sort_order(group[live][entry], cell_x, cell_y)
     entry, cell_x, cell_y = entry[order], cell_x[order], cell_y[order]
     key_change = np.ones(len(entry), dtype=bool)
     key_change[1:] = (
@@ -296,7 +296,7 @@ def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
         angle = np.abs(np.arctan2(cross2d(e1, e2), (e1 * e2).sum(-1))).ravel()
     if not len(vertex):
         return
-    order = np.lexsort((vertex, group[triangle]))
+    order = sort_order(group[triangle], vertex)
     v_sorted, g_sorted = vertex[order], group[triangle][order]
     change = np.ones(len(order), dtype=bool)
     change[1:] = (v_sorted[1:] != v_sorted[:-1]) | (g_sorted[1:] != g_sorted[:-1])
@@ -399,7 +399,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     low, high = np.minimum(v0, v1), np.maximum(v0, v1)
     real = low != high
     tri, corner, low, high = tri[real], corner[real], low[real], high[real]
-    order = np.lexsort((high, low, group[tri]))
+    order = sort_order(group[tri], low, high)
     tri, corner, low, high = tri[order], corner[order], low[order], high[order]
     change = np.ones(len(tri), dtype=bool)
     change[1:] = (low[1:] != low[:-1]) | (high[1:] != high[:-1]) | (group[tri[1:]] != group[tri[:-1]])

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .graph import index_in_runs
+from .graph import index_in_runs, sort_order
 from .mesh import band_x_extent, corner_max, corner_min, cross2d
 
 COVERED, NEAR, PADDING = 0, 1, 2
@@ -120,8 +120,7 @@ def rim_triangles(corner_key):
     start = corner_key.ravel()
     end = np.roll(corner_key, -1, axis=1).ravel()
     low, high = np.minimum(start, end), np.maximum(start, end)
-    span = int(high.max()) + 1 if len(high) else 1
-    order = np.argsort(low * span + high, kind="stable") if span < 3_000_000_000 else np.lexsort((high, low))
+    order = sort_order(low, high)
     low, high, forward = low[order], high[order], (start < end)[order]
     same_next = (low[1:] == low[:-1]) & (high[1:] == high[:-1])
     pair = np.zeros(len(order), dtype=bool)
@@ -359,7 +358,7 @@ def _grow_padding(member_map, kind_map, width, height, rings):
             sources.append(frontier[ok][empty])
             ranks.append(np.full(int(empty.sum()), rank))
         target, source, rank = np.concatenate(targets), np.concatenate(sources), np.concatenate(ranks)
-        order = np.lexsort((source, rank, target))
+        order = sort_order(target, rank, source)
         target, source = target[order], source[order]
         first = np.ones(len(target), dtype=bool)
         first[1:] = target[1:] != target[:-1]

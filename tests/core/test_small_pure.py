@@ -11,6 +11,7 @@ from seamless_ao.core.ao import AOParams, ao_params, settle_pilot
 from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.export import vertex_average
+from seamless_ao.core.graph import sort_order
 from seamless_ao.core.overlap import candidate_pairs, segment_distance
 from seamless_ao.core.png import png16
 from seamless_ao.core.settings import BakeSettings, ExportSettings
@@ -118,3 +119,12 @@ def test_candidate_pairs_with_a_query_are_the_pairs_that_touch_it():
     some = candidate_pairs(segments, group, 0.5, query=query)
     expected = every[query[every[:, 0]] | query[every[:, 1]]]
     assert len(expected) > 20 and np.array_equal(some, expected)
+
+
+@pytest.mark.parametrize("spans", [(7, 300, 5), (2**40, 2**30, 3)], ids=["folded", "too-wide-to-fold"])
+def test_sort_order_is_lexsort_most_significant_first(spans):
+    rng = np.random.default_rng(4)
+    keys = [rng.integers(0, span, 5000) for span in spans]
+    keys[1][::7] = keys[1][0]                   # plenty of ties, which must keep their input order
+    assert np.array_equal(sort_order(*keys), np.lexsort(keys[::-1]))
+    assert sort_order(np.zeros(0, dtype=np.int64)).shape == (0,)
