@@ -70,7 +70,12 @@ class AOParams:
     @property
     def pilot_rays(self):
         """Rays cast for every texel before the adaptive decision (a stratified prefix of the sequence)."""
-        return self.rays if not self.adaptive else min(self.rays, max(16, self.rays // 4))
+        return pilot_rays(self.rays, self.adaptive)
+
+
+def pilot_rays(rays, adaptive):
+    """Rays cast for every texel before the adaptive decision: a quarter, at least 16 (a stratified prefix)."""
+    return rays if not adaptive else min(rays, max(16, rays // 4))
 
 
 def ao_params(settings, positions, rays=None):
@@ -267,22 +272,26 @@ def noise_bound(ao, rays):
     Parameters
     ----------
     ao : (n,) float, AO estimates in [0, 1]
-    rays : int, rays per estimate
+    rays : int or (n,) int, rays per estimate
 
     Returns
     -------
     float, in AO units (0 for no estimates)
     """
     ao = np.clip(np.asarray(ao, dtype=np.float64), 0.0, 1.0)
-    if not len(ao) or rays < 1:
+    rays = np.broadcast_to(np.asarray(rays, dtype=np.float64), ao.shape)
+    if not len(ao) or rays.min() < 1:
         return 0.0
-    correction = rays / (rays - 1.0) if rays > 1 else 1.0
-    return float(np.sqrt((ao * (1.0 - ao)).mean() * correction / rays))
+    correction = np.where(rays > 1, rays / np.maximum(rays - 1.0, 1.0), 1.0)
+    return float(np.sqrt((ao * (1.0 - ao) * correction / rays).mean()))
 
 
-def pilot_agreement(sums, params):
-    """Code per texel after the pilot rays: 0 = undecided, 1 = all open, 2 = all fully blocked."""
-    count = params.pilot_rays
+def pilot_agreement(sums, params, pilot_count=None):
+    """Code per texel after the pilot rays: 0 = undecided, 1 = all open, 2 = all fully blocked.
+
+    ``pilot_count``: rays cast per texel, a number or (k,) (default ``params.pilot_rays``).
+    """
+    count = params.pilot_rays if pilot_count is None else pilot_count
     code = np.zeros(len(sums), dtype=np.int8)
     code[sums == 0.0] = 1
     if params.falloff == "NONE" and params.horizon_bias == 0.0:
@@ -290,7 +299,7 @@ def pilot_agreement(sums, params):
     return code
 
 
-def settle_pilot(sums, params, pilot_count, neighbours=None):
+def settle_pilot(sums, params, pilot_count, neighbours=None, rays=None):
     """The adaptive stop, after the pilot rays (the one place it is decided).
 
     A point whose pilot rays all agree (all open, or with binary falloff all
@@ -301,9 +310,10 @@ def settle_pilot(sums, params, pilot_count, neighbours=None):
     Parameters
     ----------
     sums : (k,) float64, occlusion summed over the pilot rays; the decided ones are scaled in place to
-        ``params.rays`` rays
+        all their rays
     params : AOParams
-    pilot_count : int, rays cast so far per point
+    pilot_count : int or (k,) int, rays cast so far per point
+    rays : int or (k,) int, optional, rays per point in all (default ``params.rays``)
 
     Returns
     -------
@@ -311,11 +321,13 @@ def settle_pilot(sums, params, pilot_count, neighbours=None):
     """
     if not params.adaptive:
         return np.zeros(len(sums), dtype=bool)
-    code = pilot_agreement(sums, params)
+    code = pilot_agreement(sums, params, pilot_count)
     decided = code > 0
     if neighbours is not None and decided.any():
         decided &= neighbours(code)
-    sums[decided] *= params.rays / pilot_count
+    scale = np.broadcast_to((params.rays if rays is None else rays) / np.asarray(pilot_count, dtype=np.float64),
+                            sums.shape)
+    sums[decided] *= scale[decided]
     return decided
 
 

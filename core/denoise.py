@@ -28,7 +28,7 @@ def denoise(texels, atlas, mesh, values, computed, rays, radius=2, space_sigma=1
     mesh : TriangleMesh
     values : (n,) float AO of every texel (only ``computed`` ones are used)
     computed : (n,) bool
-    rays : int, rays per texel (sets the expected noise)
+    rays : int or (n,) int, rays per texel (sets the expected noise)
     radius : int, texels each side
     space_sigma : float, Gaussian width of the 3D distance weight, in texels
     normal_power : float, exponent of the normal agreement (n_i . n_j)
@@ -67,7 +67,8 @@ def denoise(texels, atlas, mesh, values, computed, rays, radius=2, space_sigma=1
         point = [grid(points[:, k].astype(np.float32), 0.0, np.float32) for k in range(3)]
         normal = [grid(normals[:, k].astype(np.float32), 0.0, np.float32) for k in range(3)]
         # noise of an AO estimate from ``rays`` rays (binomial), floored at one ray's worth
-        variance = np.maximum(value * (1.0 - value), 1.0 / rays) / rays
+        count = grid(np.broadcast_to(np.asarray(rays, dtype=np.float32), values.shape)[halo], 1.0, np.float32)
+        variance = np.maximum(value * (1.0 - value), 1.0 / count) / count
 
         # The weight of a pair of texels does not depend on which one is the
         # centre, so each pair is weighed once and added to both ends.

@@ -119,6 +119,10 @@ class BakeSettings(_Settings):
         True, "Adaptive Sampling",
         "Stop a texel after the first quarter of its rays when they and its neighbours' all agree "
         "(all open or all blocked)")
+    weighted_rays: bool = _setting(
+        False, "Weighted Rays",
+        "Give a texel rays in proportion to the weight the blend shows it with (half as many at weight 1/2 "
+        "or less, down to an eighth): the same shown noise for fewer rays")
     denoise: bool = _setting(
         True, "Denoise",
         "Edge-aware filter over each texel's surface neighbours (little weight across creases and contact shadows)")

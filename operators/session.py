@@ -99,18 +99,18 @@ class BakeSession:
             yield 0.15, "Preparing rays"
             boxes = mesh_boxes(self.scene, self.depsgraph) if self.settings.use_scene_occluders else None
             parts = [self._ray_part(frame, mesh, boxes) for frame, mesh in zip(frames, meshes)]
-            job = AOJob(layout, parts)
+            job = AOJob(layout, parts, weighted=self.settings.weighted_rays)
             while not job.finished:
                 fraction = job.step()
                 yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)
             ao_seconds = job.seconds
             self._free_casters()
             ao = job.ao
-            noise = noise_bound(ao[job.computed], self.settings.rays)
+            noise = noise_bound(ao[job.computed], job.ray_count[job.computed])
             if self.settings.denoise:
                 yield 0.95, "Denoising"
                 start = time.perf_counter()
-                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, job.computed, self.settings.rays)
+                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, job.computed, job.ray_count)
                 layout.timings["denoise"] = time.perf_counter() - start
             yield 0.96, "Writing image, UV maps and materials"
             check_unchanged(self.objects, self.fingerprints)

@@ -68,7 +68,7 @@ class VIEW3D_PT_seamless_ao_rays(SubPanel, bpy.types.Panel):
         row = column.row()
         row.enabled = not settings.auto_distance
         row.prop(settings, "max_distance")
-        for name in ("cone_angle", "falloff", "distribution", "adaptive", "denoise", "seed"):
+        for name in ("cone_angle", "falloff", "distribution", "adaptive", "weighted_rays", "denoise", "seed"):
             column.prop(settings, name)
 
 

@@ -1,0 +1,70 @@
+"""The ray schedule of a bake (core/job.py): pilot and remaining rays, and weighted rays per texel."""
+
+import numpy as np
+import pytest
+
+import meshes
+from seamless_ao.core.ao import AOParams, BVHCaster, ray_space
+from seamless_ao.core.blend import blend_weights
+from seamless_ao.core.job import MAX_RAY_HALVINGS, MIN_SHARED_RAYS, AOJob, ray_shares
+from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.pipeline import build_layout
+from seamless_ao.core.raster import texel_geometry
+
+
+@pytest.fixture(scope="module")
+def torus_layout():
+    mesh = TriangleMesh.from_triangles(*meshes.torus(rings=32, segments=16), smooth=True)
+    return build_layout(mesh, image_size=64)
+
+
+def run(layout, rays, weighted, adaptive=False):
+    _, to_ray = ray_space(layout.mesh.positions, np.eye(3))
+    caster = BVHCaster(to_ray(layout.mesh.positions), layout.mesh.triangles)
+    # lying on a ground plane: its lower half is well occluded
+    params = AOParams(rays=rays, max_distance=3.0, adaptive=adaptive, offset=1e-5,
+                      ground_height=float(to_ray(layout.mesh.positions)[:, 2].min()))
+    job = AOJob(layout, [(params, caster, to_ray)], weighted=weighted)
+    while not job.finished:
+        job.step()
+    return job
+
+
+def test_weighted_rays_never_fall_below_what_a_texels_own_blend_weight_asks(torus_layout):
+    layout = torus_layout
+    job = run(layout, 32, weighted=True)
+    halvings = ray_shares(layout, job.computed)
+    computed = np.flatnonzero(job.computed)
+    _, normals, _ = texel_geometry(layout.texels, layout.atlas, layout.mesh, computed)
+    axis = layout.charts.chart_axis[layout.atlas.member_chart[layout.texels.member[computed]]] // 2
+    own_weight = blend_weights(normals)[np.arange(len(computed)), axis]
+    # halved h times only where the texel is shown with weight at most 2^-h
+    assert (own_weight <= 2.0 ** -halvings[computed] + 1e-9).all()
+    assert set(np.unique(halvings[computed])) >= {0, 1}                 # a torus has both kinds
+    expected = np.maximum(MIN_SHARED_RAYS, 32 >> halvings[computed])
+    assert np.array_equal(job.ray_count[computed], np.where(halvings[computed] == 0, 32, expected))
+    assert halvings.max() <= MAX_RAY_HALVINGS
+    assert job.rays_cast == job.ray_count[computed].sum() < 32 * len(computed)
+
+
+def test_weighted_rays_keep_full_texels_bit_identical_and_the_rest_within_their_noise(torus_layout):
+    layout = torus_layout
+    plain = run(layout, 32, weighted=False)
+    weighted = run(layout, 32, weighted=True)
+    full = weighted.computed & (weighted.ray_count == 32)
+    assert np.array_equal(weighted.ao[full], plain.ao[full])           # same rays, same sums
+    cut = weighted.computed & (weighted.ray_count < 32)
+    difference = weighted.ao[cut] - plain.ao[cut]
+    assert np.abs(difference).max() <= 4.0 * np.sqrt(0.25 / weighted.ray_count[cut]).max()
+    # unbiased: the mean difference is within the noise of the mean (binomial variance of each estimate)
+    ao = plain.ao[cut]
+    variance = ao * (1.0 - ao) * (1.0 / weighted.ray_count[cut] + 1.0 / 32)
+    assert (1.0 - ao).mean() > 0.05                                    # occluded enough to show a bias
+    assert abs(difference.mean()) <= 4.0 * np.sqrt(variance.sum()) / cut.sum() + 1e-3
+
+
+def test_adaptive_stop_with_weighted_rays_scales_each_texel_to_its_own_count(torus_layout):
+    job = run(torus_layout, 64, weighted=True, adaptive=True)
+    values = job.ao[job.computed]
+    assert np.isfinite(values).all() and values.min() >= 0.0 and values.max() <= 1.0
+    assert job.rays_cast < job.ray_count[job.computed].sum()              # some texels stopped early
