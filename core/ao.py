@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .mesh import mesh_size
-from .sampling import cone_directions, tangent_frames, texel_samples
+from .sampling import cone_components, tangent_frames, texel_samples
 
 #: Ray origins are lifted this far (times the object size) off the surface.
 ORIGIN_OFFSET = 1.0e-5
@@ -185,15 +185,17 @@ def ray_directions(normals, geometric, texel_ids, ray_indices, params, samples=t
     directions : (k, r, 3) float64, unit, never below the geometric tangent plane
     elevation : (k, r) float64, sine of the angle above the shading tangent plane
     """
-    local = cone_directions(samples(texel_ids, ray_indices, params.seed), params.cone_angle, params.distribution)
+    # one (k, r) plane per component: arrays with a trailing axis of 3 are slow in numpy
+    lx, ly, lz = cone_components(samples(texel_ids, ray_indices, params.seed), params.cone_angle,
+                                 params.distribution)
     tangent, bitangent = tangent_frames(normals)
-    directions = (local[..., 0:1] * tangent[:, None, :] + local[..., 1:2] * bitangent[:, None, :]
-                  + local[..., 2:3] * normals[:, None, :])
-    below = np.einsum("krd,kd->kr", directions, geometric)
-    mirror = np.minimum(below, 0.0)
-    directions = directions - 2.0 * mirror[..., None] * geometric[:, None, :]
-    directions /= np.linalg.norm(directions, axis=-1, keepdims=True)
-    return directions, local[..., 2]
+    world = [lx * tangent[:, c, None] + ly * bitangent[:, c, None] + lz * normals[:, c, None] for c in range(3)]
+    # a ray below the geometric plane is reflected in it (a reflection keeps it unit length)
+    mirror = 2.0 * np.minimum(sum(world[c] * geometric[:, c, None] for c in range(3)), 0.0)
+    directions = np.empty(lx.shape + (3,))
+    for c in range(3):
+        directions[..., c] = world[c] - mirror * geometric[:, c, None]
+    return directions, lz
 
 
 def cast_with_options(caster, origins, directions, params):

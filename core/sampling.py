@@ -101,6 +101,11 @@ def cone_directions(samples, cone_angle, distribution="COSINE"):
     -------
     (..., 3) float64, z >= cos(cone_angle)
     """
+    return np.stack(cone_components(samples, cone_angle, distribution), axis=-1)
+
+
+def cone_components(samples, cone_angle, distribution="COSINE"):
+    """:func:`cone_directions` as three arrays ``x, y, z`` (...,) (no trailing axis of 3 to stack)."""
     cos_max = np.cos(np.radians(cone_angle))
     u1, u2 = samples[..., 0], samples[..., 1]
     if distribution == "COSINE":
@@ -112,7 +117,7 @@ def cone_directions(samples, cone_angle, distribution="COSINE"):
         raise ValueError("unknown distribution {!r}".format(distribution))
     sin_theta = np.sqrt(np.maximum(0.0, 1.0 - cos_theta**2))
     phi = 2.0 * np.pi * u2
-    return np.stack([sin_theta * np.cos(phi), sin_theta * np.sin(phi), cos_theta], axis=-1)
+    return sin_theta * np.cos(phi), sin_theta * np.sin(phi), cos_theta
 
 
 def tangent_frames(normals):

@@ -27,7 +27,7 @@ def mesh_from_triangles(name, positions, triangles):
     positions = np.asarray(positions, dtype=np.float32).reshape(-1, 3)
     triangles = np.asarray(triangles, dtype=np.int32).reshape(-1, 3)
     mesh.vertices.add(len(positions))
-    mesh.vertices.foreach_set("co", positions.ravel())
+    mesh.attributes["position"].data.foreach_set("vector", positions.ravel())
     mesh.loops.add(triangles.size)
     mesh.loops.foreach_set("vertex_index", triangles.ravel())
     mesh.polygons.add(len(triangles))
@@ -112,7 +112,8 @@ class NodesCaster:
         mesh = self.points_mesh
         mesh.clear_geometry()
         mesh.vertices.add(count)
-        mesh.vertices.foreach_set("co", np.asarray(origins, dtype=np.float32).ravel())
+        # through the position attribute: vertices.foreach_set("co") costs a fifth of the cast (50 ms per 500k)
+        mesh.attributes["position"].data.foreach_set("vector", np.asarray(origins, dtype=np.float32).ravel())
         mesh.attributes.new("ray_dir", "FLOAT_VECTOR", "POINT").data.foreach_set(
             "vector", np.asarray(directions, dtype=np.float32).ravel())
         if self.cast_node.inputs["Ray Length"].default_value != float(max_distance):

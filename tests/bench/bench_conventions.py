@@ -30,6 +30,7 @@ from accuracy import reference_ao, shown_single_uv, surface_samples  # noqa: E40
 from blender_scenes import suzanne  # noqa: E402
 from cycles_baseline import UV_NAME, cycles_ao_bake  # noqa: E402
 from seamless_ao.core import ao as ao_module  # noqa: E402
+from seamless_ao.core.sampling import cone_directions, tangent_frames  # noqa: E402
 from seamless_ao.core.settings import BakeSettings  # noqa: E402
 from seamless_ao.operators.casters import ray_setup  # noqa: E402
 from seamless_ao.operators.mesh_data import read_triangles  # noqa: E402
@@ -44,9 +45,9 @@ def estimator_at_points(ob, mesh, triangle, bary, normals, rays, mirror):
     original = ao_module.ray_directions
 
     def unmirrored(normals, geometric, texel_ids, ray_indices, params, samples=ao_module.texel_samples):
-        local = ao_module.cone_directions(samples(texel_ids, ray_indices, params.seed), params.cone_angle,
-                                          params.distribution)
-        tangent, bitangent = ao_module.tangent_frames(normals)
+        local = cone_directions(samples(texel_ids, ray_indices, params.seed), params.cone_angle,
+                                params.distribution)
+        tangent, bitangent = tangent_frames(normals)
         directions = (local[..., 0:1] * tangent[:, None, :] + local[..., 1:2] * bitangent[:, None, :]
                       + local[..., 2:3] * normals[:, None, :])
         return directions, local[..., 2]
