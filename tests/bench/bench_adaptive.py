@@ -10,15 +10,12 @@ cast, seconds of one run, RMSE and 99th percentile of the absolute error.
 
 import argparse
 
-from common import markdown_table
+from common import markdown_table, suzanne_with_reference
 
 import bpy
 
 import package
-from accuracy import errors, reference_ao, shown_seamless, surface_samples
-from blender_scenes import suzanne
-from seamless_ao.core.settings import BakeSettings
-from seamless_ao.operators.mesh_data import read_triangles
+from accuracy import errors, shown_seamless
 
 
 def main():
@@ -26,12 +23,7 @@ def main():
     parser.add_argument("--image-size", type=int, default=512)
     parser.add_argument("--rays", type=int, default=64)
     args = parser.parse_args()
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    package.seamless_ao.register()
-    ob = suzanne(2)
-    mesh, loops = read_triangles(ob.data)
-    triangle, bary, normals = surface_samples(mesh, 2000, seed=5)
-    reference = reference_ao(ob, mesh, triangle, bary, normals, rays=4096, settings=BakeSettings())
+    ob, loops, triangle, bary, normals, reference = suzanne_with_reference()
     rows = []
     for adaptive in (False, True):
         report = package.seamless_ao.bake([ob], image_size=args.image_size, rays=args.rays, adaptive=adaptive)
