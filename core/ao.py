@@ -288,16 +288,13 @@ def noise_bound(ao, rays):
     return float(np.sqrt((ao * (1.0 - ao) * correction / rays).mean()))
 
 
-def pilot_agreement(sums, params, pilot_count=None):
-    """Code per texel after the pilot rays: 0 = undecided, 1 = all open, 2 = all fully blocked.
-
-    ``pilot_count``: rays cast per texel, a number or (k,) (default ``params.pilot_rays``).
-    """
-    count = params.pilot_rays if pilot_count is None else pilot_count
+def pilot_agreement(sums, params, pilot_count):
+    """Code per texel after its ``pilot_count`` rays (a number or (k,)): 0 = undecided, 1 = all open,
+    2 = all fully blocked."""
     code = np.zeros(len(sums), dtype=np.int8)
     code[sums == 0.0] = 1
     if params.falloff == "NONE" and params.horizon_bias == 0.0:
-        code[sums == count] = 2
+        code[sums == pilot_count] = 2
     return code
 
 

@@ -111,11 +111,15 @@ def chart_members(mesh, charts):
 def chart_plane_area(mesh, charts):
     """Total area of all charts in their planes (object units squared).
 
-    A triangle's area projected on an axis plane is half the axis component of
-    its cross product, so no projection is needed.
+    No projection is needed (:func:`_member_plane_area`).
     """
-    on_axis = charts.chart_of_face[mesh.triangle_face] >= 0                 # (t, 3)
-    return float(0.5 * np.abs(mesh.triangle_cross)[on_axis].sum())
+    member_triangle, member_chart, _ = chart_members(mesh, charts)
+    return float(_member_plane_area(mesh, charts, member_triangle, member_chart).sum())
+
+
+def _member_plane_area(mesh, charts, member_triangle, member_chart):
+    """(m,) area of each member projected on its chart's plane: half the axis component of its cross product."""
+    return 0.5 * np.abs(mesh.triangle_cross[member_triangle, charts.chart_axis[member_chart] // 2])
 
 
 def estimate_density(area, image_size, utilisation=0.55):
@@ -165,7 +169,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     live = ~mesh.degenerate[member_triangle]
     if not live.any():
         raise SeamlessAOError("The mesh has no face with area; there is nothing to pack")
-    member_area = 0.5 * np.abs(mesh.triangle_cross[member_triangle, charts.chart_axis[member_chart] // 2])
+    member_area = _member_plane_area(mesh, charts, member_triangle, member_chart)
     area = float(member_area[live].sum())
     expected = density if density is not None else estimate_density(area, image_size, 0.7)
     covers = chart_covers(local_uv[live], member_chart[live], charts.count, expected)

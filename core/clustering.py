@@ -68,12 +68,11 @@ def project(points, signed_axis):
     if not signed_axis.size:
         return uv, depth
     axis = signed_axis // 2
-    for a in range(int(axis.min()), int(axis.max()) + 1):
-        if axis.min() == axis.max():                  # one axis (every chart of it): no masks
-            p, s, into = points, signed_axis, (Ellipsis,)
-        else:
-            into = (axis == a,)
-            p, s = points[into], signed_axis[into]
+    first, last = int(axis.min()), int(axis.max())
+    for a in range(first, last + 1):
+        # one axis (every chart of it) needs no mask
+        into = (Ellipsis,) if first == last else (axis == a,)
+        p, s = points[into], signed_axis[into]
         uv[into + (0,)] = p[..., _U_COMPONENT[a]] * _U_SIGN[s]
         uv[into + (1,)] = p[..., _V_COMPONENT[a]] * _V_SIGN[s]
         depth[into] = p[..., a] * _DEPTH_SIGN[s]

@@ -78,7 +78,7 @@ class AOJob:
         self.remaining = []                  # per class: (its texels, its ray indices after the pilot)
         for halving in np.unique(halvings):
             members = selected[halvings == halving]
-            count = rays if halving == 0 else min(rays, max(MIN_SHARED_RAYS, rays >> int(halving)))
+            count = min(rays, max(MIN_SHARED_RAYS, rays >> int(halving)))
             pilot = pilot_rays(count, self.params.adaptive)
             self.ray_count[members] = count
             self.pilot_count[members] = pilot

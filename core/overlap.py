@@ -266,12 +266,11 @@ def segment_distance(p0, p1, q0, q1):
     return distance, s, t
 
 
-def _corner_angles(uv, triangle, corner):
-    """Interior angle (k,) of triangles ``triangle`` (k,) at their corners ``corner`` (k,) in 2D."""
-    here = uv[triangle, corner]
-    e1 = uv[triangle, (corner + 1) % 3] - here
-    e2 = uv[triangle, (corner + 2) % 3] - here
-    return np.abs(np.arctan2(cross2d(e1, e2), (e1 * e2).sum(1)))
+def _triangle_angles(corners):
+    """Interior angle at each corner of 2D triangles: ``corners`` (k, 3, 2) -> (k, 3)."""
+    e1 = corners[:, [1, 2, 0]] - corners
+    e2 = corners[:, [2, 0, 1]] - corners
+    return np.abs(np.arctan2(cross2d(e1, e2), (e1 * e2).sum(-1)))
 
 
 def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
@@ -279,21 +278,14 @@ def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
 
     Yields, per such fan, its welded vertex and two of its triangles (2,)
     int64 that overlap: the first and the one where the running angle passes
-    360 degrees.  Only
-    vertices in ``fan_vertices`` (bool mask over welded vertices) are looked
-    at when it is given.
+    360 degrees.  Only vertices in ``fan_vertices`` (bool mask over welded
+    vertices) are looked at when it is given.
     """
-    triangle, corner = np.repeat(live, 3), np.tile(np.arange(3), len(live))
-    vertex = welded_triangles[live].ravel()
-    if fan_vertices is not None:
-        keep = fan_vertices[vertex]
-        triangle, corner, vertex = triangle[keep], corner[keep], vertex[keep]
-        angle = _corner_angles(uv, triangle, corner)
-    else:                                   # every corner: whole triangles, no per-corner gather
-        corners = uv[live]
-        e1 = corners[:, [1, 2, 0]] - corners
-        e2 = corners[:, [2, 0, 1]] - corners
-        angle = np.abs(np.arctan2(cross2d(e1, e2), (e1 * e2).sum(-1))).ravel()
+    vertex = welded_triangles[live]                                          # (k, 3)
+    keep = np.ones(vertex.shape, dtype=bool) if fan_vertices is None else fan_vertices[vertex]
+    touched = keep.any(axis=1)                  # angles only of triangles with a corner looked at
+    angle = _triangle_angles(uv[live[touched]])[keep[touched]]
+    triangle, vertex = np.repeat(live, 3)[keep.ravel()], vertex[keep]
     if not len(vertex):
         return
     order = sort_order(group[triangle], vertex)
@@ -412,13 +404,13 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     seg = np.stack([uv[b_tri, b_corner], uv[b_tri, (b_corner + 1) % 3]], axis=1)     # (b, 2, 2)
     seg_depth = np.stack([depth[b_tri, b_corner], depth[b_tri, (b_corner + 1) % 3]], axis=1)
     reach = max(float(touch[live].max()), margin)
-    fresh = None
+    fresh = None                                 # sides not paired up in an earlier round (None: all)
+    boundary_hits = np.zeros((0, 2), dtype=np.int64)
     if memory is not None and memory.rounds:
         fresh = ~memory.boundary_side[b_tri, b_corner]
         a, b = memory.conflicts[:, 0], memory.conflicts[:, 1]
-        found.append(memory.conflicts[(group[a] >= 0) & (group[a] == group[b])])
+        boundary_hits = memory.conflicts[(group[a] >= 0) & (group[a] == group[b])]
     pairs = candidate_pairs(seg, group[b_tri], reach, query=fresh)
-    start = len(found)
     if len(pairs):
         # segments whose boxes are further apart than the reach cannot be closer
         seg_low, seg_high = corner_min(seg), corner_max(seg)
@@ -439,10 +431,11 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
                      + distance * 2.0 * np.maximum(slope[tri_a], slope[tri_b]))
         close = (distance <= np.minimum(touch[tri_a], touch[tri_b])) | ((distance <= margin) & (margin > 0))
         hit = close & (np.abs(depth_a - depth_b) > explained)
-        found.append(np.stack([b_tri[a][hit], b_tri[b][hit]], 1))
+        boundary_hits = np.concatenate([boundary_hits, np.stack([b_tri[a][hit], b_tri[b][hit]], 1)])
+    found.append(boundary_hits)
     if memory is not None:
         memory.boundary_side[b_tri, b_corner] = True
-        memory.conflicts = np.concatenate(found[start - (1 if fresh is not None else 0):] + [np.zeros((0, 2), np.int64)])
+        memory.conflicts = boundary_hits
         memory.rounds += 1
 
     # 2. Vertices whose fan turns more than once.
