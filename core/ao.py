@@ -9,9 +9,11 @@ falloff), or ``1 - sqrt(d/max)`` (``OBSCURANCE``); hits beyond the maximum
 distance do not count.
 
 Ray casting goes through a *caster*: any object with
-``cast(origins (n,3), directions (n,3), max_distance) -> (distance (n,), facing (n,))``
-where ``distance`` is ``inf`` for a miss and ``facing`` is the dot product of
-the hit face's normal with the ray (> 0: the ray hit a back face).
+``cast(origins (n,3), directions (n,3), max_distance) -> (distance (n,), facing (n,), sealed (n,))``
+where ``distance`` is ``inf`` for a miss, ``facing`` is the dot product of
+the hit face's normal with the ray (> 0: the ray hit a back face) and
+``sealed`` says whether the hit face belongs to a (nearly) closed piece
+(:mod:`.sealed`; the caster is built with that flag per triangle).
 :class:`BVHCaster` loops over ``mathutils.bvhtree.BVHTree.ray_cast``; the
 Blender side also has a batch caster on Geometry Nodes (multi-threaded).
 
@@ -103,16 +105,18 @@ class BVHCaster:
     ----------
     positions : (v, 3) float
     triangles : (t, 3) int
+    sealed : (t,) bool, optional, triangles of closed pieces (:mod:`.sealed`; none if not given)
     """
 
     name = "bvh-loop"
 
-    def __init__(self, positions, triangles):
+    def __init__(self, positions, triangles, sealed=None):
         from mathutils.bvhtree import BVHTree
 
         positions = np.asarray(positions, dtype=np.float64)
         triangles = np.asarray(triangles, dtype=np.int64)
         self.tree = BVHTree.FromPolygons(positions.tolist(), triangles.tolist(), all_triangles=True)
+        self.sealed = np.zeros(len(triangles), dtype=bool) if sealed is None else np.asarray(sealed, dtype=bool)
 
     def cast(self, origins, directions, max_distance):
         from mathutils import Vector
@@ -120,13 +124,15 @@ class BVHCaster:
         count = len(origins)
         distance = np.full(count, np.inf)
         facing = np.zeros(count)
+        hit_face = np.full(count, -1, dtype=np.int64)
         ray_cast = self.tree.ray_cast
         for i, (origin, direction) in enumerate(zip(map(Vector, origins.tolist()), map(Vector, directions.tolist()))):
-            location, normal, _, hit_distance = ray_cast(origin, direction, max_distance)
+            location, normal, face, hit_distance = ray_cast(origin, direction, max_distance)
             if location is not None:
                 distance[i] = hit_distance
                 facing[i] = normal.dot(direction)
-        return distance, facing
+                hit_face[i] = face
+        return distance, facing, (hit_face >= 0) & self.sealed[np.maximum(hit_face, 0)]
 
 
 def ray_space(positions, linear):
@@ -205,9 +211,13 @@ def cast_with_options(caster, origins, directions, params):
     can hit the back of that surface at distance ~0 through rounding; such
     hits are stepped through, whatever ``ignore_backfaces`` says.
 
-    Returns (n,) float64 distances, ``inf`` for rays that hit nothing in range.
+    Returns
+    -------
+    distance : (n,) float64, ``inf`` for rays that hit nothing in range
+    behind : (n,) bool, the ray's hit is the back of a sealed face (see :func:`buried`)
     """
-    distance, facing = caster.cast(origins, directions, params.max_distance)
+    distance, facing, sealed = caster.cast(origins, directions, params.max_distance)
+    facing, sealed = np.array(facing, dtype=np.float64), np.array(sealed, dtype=bool)
     near = 4.0 * params.offset
     travelled = np.zeros(len(origins))
     through = np.isfinite(distance) & (facing > 0) & ((distance < near) | params.ignore_backfaces)
@@ -218,18 +228,22 @@ def cast_with_options(caster, origins, directions, params):
         travelled[index] += distance[index] + params.offset
         start = origins[index] + directions[index] * travelled[index, None]
         remaining = np.maximum(params.max_distance - travelled[index], 0.0)
-        again, again_facing = caster.cast(start, directions[index], float(remaining.max()))
+        again, again_facing, again_sealed = caster.cast(start, directions[index], float(remaining.max()))
         again = np.where(again <= remaining, again, np.inf)
         distance[index] = again
+        facing[index] = again_facing
+        sealed[index] = again_sealed
         through[:] = False
         through[index] = np.isfinite(again) & (again_facing > 0) & ((again < near) | params.ignore_backfaces)
     distance = np.where(through, np.inf, distance + travelled)
+    behind = np.isfinite(distance) & (facing > 0.0) & sealed
     if params.ground_height is not None:
         down = directions[:, 2] < -1e-12
         to_ground = (params.ground_height - origins[:, 2]) / np.where(down, directions[:, 2], -1.0)
         to_ground = np.where(down & (to_ground >= 0.0), to_ground, np.inf)
+        behind &= distance < to_ground
         distance = np.minimum(distance, to_ground)
-    return distance
+    return distance, behind
 
 
 def occlusion_sums(points, normals, geometric, texel_ids, ray_indices, params, caster, samples=texel_samples):
@@ -245,21 +259,56 @@ def occlusion_sums(points, normals, geometric, texel_ids, ray_indices, params, c
 
     Returns
     -------
-    (k,) float64 in [0, r]
+    sums : (k,) float64 in [0, r]
+    behind : (k,) int64 in [0, r], rays whose hit is the back of a sealed face
     """
     if not len(points) or not len(ray_indices):
-        return np.zeros(len(points))
+        return np.zeros(len(points)), np.zeros(len(points), dtype=np.int64)
     side = np.where((geometric * normals).sum(axis=1) < 0.0, -1.0, 1.0)
     geometric = geometric * side[:, None]
     origins = points + params.offset * geometric
     directions, elevation = ray_directions(normals, geometric, texel_ids, ray_indices, params, samples)
     count = len(ray_indices)
     start = np.repeat(origins, count, axis=0)
-    distance = cast_with_options(caster, start, directions.reshape(-1, 3), params).reshape(len(points), count)
-    occlusion = occlusion_of_hits(distance, params)
+    distance, behind = cast_with_options(caster, start, directions.reshape(-1, 3), params)
+    occlusion = occlusion_of_hits(distance.reshape(len(points), count), params)
     if params.horizon_bias > 0.0:
         occlusion *= np.clip(np.arcsin(np.clip(elevation, -1, 1)) / np.radians(params.horizon_bias), 0.0, 1.0)
-    return occlusion.sum(axis=1)
+    return occlusion.sum(axis=1), behind.reshape(len(points), count).sum(axis=1)
+
+
+def buried(behind, rays, params):
+    """Points inside a closed piece: most of their rays hit the back of a face.
+
+    A texel whose surface point lies inside another piece (where two shells
+    intersect: Suzanne's eyes in her head, a crate pushed into a wall) is
+    never seen, and its AO is 0; bilinear filtering would still blend that 0
+    into the visible texels beside it, a dark line along the intersection
+    (:func:`.fill.fill_buried_rim` gives those texels their visible
+    neighbours' value instead).  From inside a closed, consistently oriented
+    piece every ray meets the piece's inside, the back of its faces; from a
+    visible point rays meet front faces.  So a point is buried when more than
+    half of its rays hit back faces.  Behind an open sheet (a drape before a
+    wall) rays meet its back too, though the point is seen round the sheet's
+    edges: only the rim of a buried region is ever replaced, so such a
+    mistake costs one texel's width along the sheet's edge.  With
+    ``ignore_backfaces`` the user has said back faces are not walls, and
+    nothing is buried.
+
+    Parameters
+    ----------
+    behind : (k,) int, rays per point whose hit is the back of a sealed face (:func:`occlusion_sums`)
+    rays : int or (k,) int, rays cast per point
+    params : AOParams
+
+    Returns
+    -------
+    (k,) bool
+    """
+    behind = np.asarray(behind)
+    if params.ignore_backfaces:
+        return np.zeros(behind.shape, dtype=bool)
+    return 2 * behind > np.asarray(rays)
 
 
 def noise_bound(ao, rays):
@@ -342,12 +391,12 @@ def shade(points, normals, geometric, texel_ids, params, caster, samples=texel_s
     """
     pilot = np.arange(params.pilot_rays)
     rest = np.arange(params.pilot_rays, params.rays)
-    total = occlusion_sums(points, normals, geometric, texel_ids, pilot, params, caster, samples)
+    total = occlusion_sums(points, normals, geometric, texel_ids, pilot, params, caster, samples)[0]
     rays_cast = len(points) * len(pilot)
     if len(rest):
         todo = np.flatnonzero(~settle_pilot(total, params, len(pilot)))
         total[todo] += occlusion_sums(points[todo], normals[todo], geometric[todo], texel_ids[todo], rest, params,
-                                      caster, samples)
+                                      caster, samples)[0]
         rays_cast += len(todo) * len(rest)
     ao = 1.0 - total / params.rays
     return np.clip(ao, 0.0, 1.0).astype(np.float32), rays_cast

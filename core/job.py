@@ -9,7 +9,7 @@ import time
 
 import numpy as np
 
-from .ao import occlusion_sums, pilot_rays, settle_pilot
+from .ao import buried, occlusion_sums, pilot_rays, settle_pilot
 from .raster import texel_geometry
 
 #: Target duration of one :meth:`AOJob.step` (seconds).
@@ -51,6 +51,15 @@ class AOJob:
         only covered and near texels; farther rings are filled from their
         neighbours by :func:`texel_image`, which is what mip-maps need).
     weighted : bool
+
+    Attributes, when :attr:`finished`
+    ---------------------------------
+    ao : (n,) float32 per texel
+    computed : (n,) bool, texels that got rays
+    buried : (n,) bool, computed texels inside a closed piece (:func:`.ao.buried`),
+        but for the rim of each buried region, which is shaded again at the
+        crease (:meth:`_queue_creases`)
+    ray_count : (n,) int, rays each texel was meant to get
     """
 
     def __init__(self, layout, parts, batch_rays=1 << 19, ray_rings=1, weighted=False):
@@ -61,6 +70,10 @@ class AOJob:
         self.total = int(self.computed.sum())
         self.ao = np.zeros(len(texels), dtype=np.float32)
         self.sums = np.zeros(len(texels), dtype=np.float64)
+        self.behind = np.zeros(len(texels), dtype=np.int64)     # rays that hit a back face
+        self.cast_count = np.zeros(len(texels), dtype=np.int64)  # rays cast
+        self.buried = np.zeros(len(texels), dtype=bool)
+        self.creased = False
         self.rays_cast = 0
         self.seconds = 0.0
         self.params = parts[0][0]
@@ -82,7 +95,7 @@ class AOJob:
             pilot = pilot_rays(count, self.params.adaptive)
             self.ray_count[members] = count
             self.pilot_count[members] = pilot
-            self.passes.append([members, np.arange(pilot)])
+            self.passes.append([members, np.arange(pilot), None])
             self.remaining.append((members, np.arange(pilot, count)))
         self.pilot = True
         self.position = 0
@@ -102,18 +115,25 @@ class AOJob:
         if self.finished:
             return 1.0
         start = time.perf_counter()
-        queue, rays = self.passes[0]
-        batch = queue[self.position:self.position + max(1, self.batch_rays // max(len(rays), 1))]
+        queue, rays, where = self.passes[0]
+        stop = self.position + max(1, self.batch_rays // max(len(rays), 1))
+        batch = queue[self.position:stop]
         part_of = self.layout.part_of_texel(batch)
         for part in np.unique(part_of):
             selection = batch[part_of == part]
             params, caster, to_ray = self.parts[part]
-            points, normals, geometric = texel_geometry(
-                self.layout.texels, self.layout.atlas, self.layout.mesh, selection)
-            points, normals = to_ray(points, normals)
-            _, geometric = to_ray(points, geometric)
-            self.sums[selection] += occlusion_sums(
+            if where is None:
+                points, normals, geometric = texel_geometry(
+                    self.layout.texels, self.layout.atlas, self.layout.mesh, selection)
+                points, normals = to_ray(points, normals)
+                _, geometric = to_ray(points, geometric)
+            else:                                    # given points, in ray space (the creases)
+                points, normals, geometric = (a[self.position:stop][part_of == part] for a in where)
+            sums, behind = occlusion_sums(
                 points, normals, geometric, self.layout.texels.index[selection], rays, params, caster)
+            self.sums[selection] += sums
+            self.behind[selection] += behind
+            self.cast_count[selection] += len(rays)
         self.rays_cast += len(batch) * len(rays)
         self.work_done += len(batch) * len(rays)
         self.position += len(batch)
@@ -128,11 +148,53 @@ class AOJob:
             self.position = 0
             if self.pilot and not self.passes:
                 self._after_pilot()
+            if not self.passes and not self.creased:
+                self._queue_creases()
         if self.finished:
             computed = self.computed
             self.ao[computed] = np.clip(1.0 - self.sums[computed] / self.ray_count[computed], 0.0, 1.0)
         self.seconds += time.perf_counter() - start
         return self.fraction
+
+    def _queue_creases(self):
+        """Find the buried texels; queue the rim of each buried region to be shaded again at the crease.
+
+        A texel beside a visible one of its chart is read by bilinear
+        filtering at visible points within a texel of where its piece enters
+        the other (a crease: Suzanne's eye meeting her head, a crate standing
+        on the floor).  Its own point is inside the other piece (AO 0: a dark
+        line), so it is shaded at the crease instead: the point where a ray
+        from its visible neighbour's point towards its own first meets the
+        other piece, which is the last visible point between them.  Deeper
+        buried texels keep their AO (never read at a visible point).
+        """
+        self.creased = True
+        computed = self.computed
+        self.buried[computed] = buried(self.behind[computed], np.maximum(self.cast_count[computed], 1), self.params)
+        texels, atlas, mesh = self.layout.texels, self.layout.atlas, self.layout.mesh
+        rim, donor = buried_rim(texels, atlas.member_chart[texels.member], self.buried, computed)
+        if not len(rim):
+            return
+        order = np.lexsort((texels.index[rim], self.layout.part_of_texel(rim)))
+        rim, donor = rim[order], donor[order]
+        points = np.empty((len(rim), 3))
+        normals, geometric = np.empty_like(points), np.empty_like(points)
+        part_of = self.layout.part_of_texel(rim)
+        for part in np.unique(part_of):
+            mine = np.flatnonzero(part_of == part)
+            params, caster, to_ray = self.parts[part]
+            own, own_normal, own_geometric = texel_geometry(texels, atlas, mesh, rim[mine])
+            near, near_normal, near_geometric = texel_geometry(texels, atlas, mesh, donor[mine])
+            own, normals[mine] = to_ray(own, own_normal)
+            geometric[mine] = to_ray(own, own_geometric)[1]
+            near, near_normal = to_ray(near, near_normal)
+            near_geometric = to_ray(near, near_geometric)[1]
+            points[mine] = crease_points(near, near_normal, near_geometric, own, params, caster)
+        self.buried[rim] = False
+        self.sums[rim] = 0.0
+        self.ray_count[rim] = self.params.rays
+        self.passes.append([rim, np.arange(self.params.rays), (points, normals, geometric)])
+        self.work_expected = self.work_done + len(rim) * self.params.rays
 
     def _after_pilot(self):
         """Decide which texels stop early (all classes together); queue the rest for their remaining rays."""
@@ -148,9 +210,9 @@ class AOJob:
         for members, rays in self.remaining:
             todo = members[~stopped[members]]
             if len(rays) and len(todo):
-                self.passes.append([todo, rays])
+                self.passes.append([todo, rays, None])
         self.remaining = []
-        self.work_expected = self.work_done + sum(len(todo) * len(rays) for todo, rays in self.passes)
+        self.work_expected = self.work_done + sum(len(todo) * len(rays) for todo, rays, _ in self.passes)
 
 
 def ray_shares(layout, computed):
@@ -213,3 +275,63 @@ def neighbours_agree(texels, selection, code):
                 other = grid[(y + dy) * (width + 2) + x + dx]
                 agree &= (other == code) | (other == _NO_VOTE)
     return agree
+
+
+def buried_rim(texels, chart_of_texel, buried_texel, computed):
+    """The buried texels beside a seen texel of their chart, each with one such neighbour.
+
+    Parameters
+    ----------
+    texels : Texels
+    chart_of_texel : (n,) int
+    buried_texel, computed : (n,) bool
+
+    Returns
+    -------
+    rim : (k,) int64, indices into ``texels``
+    neighbour : (k,) int64, a seen texel of the same chart among each one's 8 neighbours (the 4 sides
+        before the corners)
+    """
+    width, height = texels.width, texels.height
+    seen = computed & ~buried_texel
+    grid = np.full((height + 2) * (width + 2), -1, dtype=np.int64)
+    x, y = texels.index % width + 1, texels.index // width + 1
+    grid[y[seen] * (width + 2) + x[seen]] = np.flatnonzero(seen)
+    candidate = np.flatnonzero(buried_texel & computed)
+    neighbour = np.full(len(candidate), -1, dtype=np.int64)
+    for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, 1), (1, -1), (-1, -1)):
+        other = grid[(y[candidate] + dy) * (width + 2) + x[candidate] + dx]
+        take = (neighbour < 0) & (other >= 0)
+        take[take] = chart_of_texel[other[take]] == chart_of_texel[candidate[take]]
+        neighbour[take] = other[take]
+    found = neighbour >= 0
+    return candidate[found], neighbour[found]
+
+
+def crease_points(near, near_normal, near_geometric, far, params, caster):
+    """The last visible point on the way from each visible point ``near`` to a buried point ``far``.
+
+    A ray from ``near`` (lifted off its face as rays are) towards ``far``
+    meets the piece ``far`` is inside of; the point just before that hit is
+    on the visible side of the crease.  Where the ray meets nothing on the way
+    (``far`` was buried by its rays' vote, yet nothing lies between), the
+    point is ``near`` itself.
+
+    Parameters
+    ----------
+    near, near_normal, near_geometric, far : (k, 3) float64, ray space
+    params : AOParams
+    caster : object with ``cast``
+
+    Returns
+    -------
+    (k, 3) float64
+    """
+    side = np.where((near_geometric * near_normal).sum(axis=1) < 0.0, -1.0, 1.0)
+    start = near + params.offset * near_geometric * side[:, None]
+    towards = far - start
+    length = np.sqrt((towards * towards).sum(axis=1))
+    direction = towards / np.maximum(length, 1e-300)[:, None]
+    distance = caster.cast(start, direction, float(length.max()) if len(length) else 0.0)[0]
+    travel = np.where(np.isfinite(distance) & (distance <= length), np.maximum(distance - params.offset, 0.0), 0.0)
+    return start + direction * travel[:, None]

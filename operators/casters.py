@@ -16,6 +16,7 @@ import bpy
 import numpy as np
 
 from ..core.ao import BVHCaster, ao_params, ray_space
+from ..core.sealed import sealed_triangles
 from .mesh_data import mesh_boxes, scene_occluders
 
 TEMP_PREFIX = ".SeamlessAO_temp_"
@@ -43,14 +44,17 @@ class NodesCaster:
     ----------
     positions : (v, 3) float, ray space
     triangles : (t, 3) int
+    sealed : (t,) bool, optional, triangles of closed pieces (core/sealed.py; none if not given)
     """
 
     name = "geometry-nodes"
 
-    def __init__(self, positions, triangles):
+    def __init__(self, positions, triangles, sealed=None):
         self._datablocks = []
         self.scene = self._keep(bpy.data.scenes.new(TEMP_PREFIX + "scene"))
         occluder_mesh = self._keep(mesh_from_triangles(TEMP_PREFIX + "occluders", positions, triangles))
+        flag = np.zeros(len(triangles), dtype=np.float32) if sealed is None else np.asarray(sealed, dtype=np.float32)
+        occluder_mesh.attributes.new("sealed", "FLOAT", "FACE").data.foreach_set("value", flag)
         self.occluder = self._keep(bpy.data.objects.new(TEMP_PREFIX + "occluders", occluder_mesh))
         self.scene.collection.objects.link(self.occluder)
         self.points_mesh = self._keep(bpy.data.meshes.new(TEMP_PREFIX + "rays"))
@@ -77,9 +81,14 @@ class NodesCaster:
         direction = nodes.new("GeometryNodeInputNamedAttribute")
         direction.data_type = "FLOAT_VECTOR"
         direction.inputs["Name"].default_value = "ray_dir"
+        sealed = nodes.new("GeometryNodeInputNamedAttribute")
+        sealed.data_type = "FLOAT"
+        sealed.inputs["Name"].default_value = "sealed"
         cast = nodes.new("GeometryNodeRaycast")
+        cast.data_type = "FLOAT"
         self.cast_node = cast
         links.new(target.outputs["Geometry"], cast.inputs["Target Geometry"])
+        links.new(sealed.outputs["Attribute"], cast.inputs["Attribute"])
         links.new(direction.outputs["Attribute"], cast.inputs["Ray Direction"])
         miss = nodes.new("GeometryNodeSwitch")
         miss.input_type = "FLOAT"
@@ -90,11 +99,12 @@ class NodesCaster:
         facing.operation = "DOT_PRODUCT"
         links.new(cast.outputs["Hit Normal"], facing.inputs[0])
         links.new(direction.outputs["Attribute"], facing.inputs[1])
-        # One stored vector (distance, facing, 0): one field evaluation, so the
-        # rays are cast once (two stores would evaluate the raycast twice).
+        # One stored vector (distance, facing, sealed): one field evaluation, so
+        # the rays are cast once (two stores would evaluate the raycast twice).
         combine = nodes.new("ShaderNodeCombineXYZ")
         links.new(miss.outputs[0], combine.inputs["X"])
         links.new(facing.outputs["Value"], combine.inputs["Y"])
+        links.new(cast.outputs["Attribute"], combine.inputs["Z"])
         store = nodes.new("GeometryNodeStoreNamedAttribute")
         store.data_type = "FLOAT_VECTOR"
         store.inputs["Name"].default_value = "hit"
@@ -108,7 +118,7 @@ class NodesCaster:
         distance = np.full(count, np.inf)
         facing = np.zeros(count)
         if not count:
-            return distance, facing
+            return distance, facing, np.zeros(count, dtype=bool)
         mesh = self.points_mesh
         mesh.clear_geometry()
         mesh.vertices.add(count)
@@ -128,7 +138,7 @@ class NodesCaster:
         found = hit[:, 0] >= 0.0
         distance[found] = hit[found, 0]
         facing[found] = hit[found, 1]
-        return distance, facing
+        return distance, facing, found & (hit[:, 2] > 0.5)
 
     def free(self):
         """Remove every temporary datablock (safe to call twice)."""
@@ -175,5 +185,6 @@ def ray_setup(ob, mesh, settings, scene, depsgraph, rays=None, boxes=None):
             triangles.append(other_triangles + sum(len(p) for p in positions))
             positions.append(world_positions - shift)
     positions, triangles = np.concatenate(positions), np.concatenate(triangles)
-    caster = (BVHCaster if settings.ray_caster == "PYTHON_BVH" else NodesCaster)(positions, triangles)
+    caster = (BVHCaster if settings.ray_caster == "PYTHON_BVH" else NodesCaster)(
+        positions, triangles, sealed_triangles(positions, triangles))
     return params, caster, to_ray

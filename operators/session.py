@@ -106,11 +106,12 @@ class BakeSession:
             ao_seconds = job.seconds
             self._free_casters()
             ao = job.ao
-            noise = noise_bound(ao[job.computed], job.ray_count[job.computed])
+            seen = job.computed & ~job.buried
+            noise = noise_bound(ao[seen], job.ray_count[seen])
             if self.settings.denoise:
                 yield 0.95, "Denoising"
                 start = time.perf_counter()
-                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, job.computed, job.ray_count)
+                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, seen, job.ray_count)
                 layout.timings["denoise"] = time.perf_counter() - start
             yield 0.96, "Writing image, UV maps and materials"
             check_unchanged(self.objects, self.fingerprints)

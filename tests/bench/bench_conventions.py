@@ -62,7 +62,7 @@ def estimator_at_points(ob, mesh, triangle, bary, normals, rays, mirror):
             part = slice(start, start + 64)
             out[part] = 1.0 - ao_module.occlusion_sums(
                 ray_points[part], ray_normals[part], geometric[part], np.arange(len(points))[part],
-                np.arange(rays), params, caster) / rays
+                np.arange(rays), params, caster)[0] / rays
         return out
     finally:
         ao_module.ray_directions = original

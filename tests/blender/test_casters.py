@@ -21,30 +21,36 @@ def test_nodes_caster_hits_a_plane_where_the_closed_form_says(fresh_scene):
         sin_theta = np.sqrt(1 - cos_theta**2)
         directions = np.stack([sin_theta * np.cos(angle), sin_theta * np.sin(angle), cos_theta], axis=1)
         origins = np.column_stack([rng.uniform(-1, 1, (500, 2)), np.zeros(500)])
-        distance, facing = caster.cast(origins, directions, 3.0)
+        distance, facing, sealed = caster.cast(origins, directions, 3.0)
         reach = 1.0 / cos_theta <= 3.0
         assert np.allclose(distance[reach], 1.0 / cos_theta[reach], rtol=1e-5)
         assert np.isinf(distance[~reach]).all() and (~reach).sum() > 50
         assert (facing[reach] < 0).all()                                  # hit from the front
+        assert not sealed.any()                                           # no sealed triangle given
     finally:
         caster.free()
 
 
 def test_nodes_caster_agrees_with_the_bvh_caster_hit_for_hit(fresh_scene):
+    """Distance, facing and the sealed flag of the hit triangle (here: every odd triangle, so a caster
+    that read the flag of another triangle, or none, would disagree on half the hits)."""
     mesh, _ = read_triangles(suzanne(1).data)
     rng = np.random.default_rng(1)
     origins = rng.uniform(-1.5, 1.5, (4000, 3))
     directions = rng.normal(size=(4000, 3))
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
-    nodes = NodesCaster(mesh.positions, mesh.triangles)
+    flags = np.arange(len(mesh.triangles)) % 2 == 1
+    nodes = NodesCaster(mesh.positions, mesh.triangles, flags)
     try:
-        distance, facing = nodes.cast(origins, directions, 2.0)
+        distance, facing, sealed = nodes.cast(origins, directions, 2.0)
     finally:
         nodes.free()
-    expected_distance, expected_facing = BVHCaster(mesh.positions, mesh.triangles).cast(origins, directions, 2.0)
+    expected_distance, expected_facing, expected_sealed = BVHCaster(mesh.positions, mesh.triangles, flags).cast(
+        origins, directions, 2.0)
     hit = np.isfinite(expected_distance)
     assert 500 < hit.sum() < 3500
-    agree = (np.isfinite(distance) == hit)
+    assert 0.3 < expected_sealed[hit].mean() < 0.7 and not expected_sealed[~hit].any()
+    agree = (np.isfinite(distance) == hit) & (sealed == expected_sealed)
     agree[hit] &= np.isclose(distance[hit], expected_distance[hit], rtol=1e-4, atol=1e-5)
     agree[hit] &= np.sign(facing[hit]) == np.sign(expected_facing[hit])
     assert agree.mean() > 0.999, agree.mean()                  # a ray grazing an edge may go either way

@@ -13,6 +13,9 @@ from mathutils.bvhtree import BVHTree
 
 #: Origin lift along the geometric normal, relative to the mesh's bounding-box diagonal.
 LIFT = 1e-5
+#: A point some piece winds around more than this is inside it (1 inside a closed piece, 0 outside,
+#: below 1/2 behind an open sheet such as a drape before a wall).
+INSIDE_WINDING = 0.6
 
 
 def plain_ao(positions, triangles, points, shading, geometric, max_distance, rays=4096, seed=0):
@@ -70,8 +73,12 @@ def hidden(positions, triangles, triangle, points, tolerance=1e-6):
 
     A point is hidden when it lies on another, opposite-facing triangle (within
     ``tolerance`` of the bounding-box diagonal: a crate's bottom on the floor), or
-    inside another closed piece (a crate's corner inside the crate it overlaps):
-    every one of a few rays into its hemisphere first meets the back of a face.
+    inside another closed piece (a crate's corner inside the crate it overlaps,
+    the part of Suzanne's head inside her eyeball): every one of a few rays into
+    its hemisphere first meets the back of a face, or, lifted off its face, some
+    piece winds around it more than :data:`INSIDE_WINDING` times
+    (:func:`largest_piece_winding`: Suzanne's eyes are open shells, which the
+    rays miss).
     """
     positions = np.asarray(positions, dtype=np.float64)
     triangles = np.asarray(triangles)
@@ -87,6 +94,64 @@ def hidden(positions, triangles, triangle, points, tolerance=1e-6):
         out[k] = (any(n.dot(own) < -0.99 for _, n, other, _ in tree.find_nearest_range(Vector(p), radius)
                       if other != t)
                   or _enclosed(tree, np.asarray(p) + LIFT * diagonal * normal[t], normal[t]))
+    lifted = np.asarray(points, dtype=np.float64) + LIFT * diagonal * normal[np.asarray(triangle)]
+    return out | (largest_piece_winding(positions, triangles, lifted) > INSIDE_WINDING)
+
+
+def winding_numbers(corners, points):
+    """Generalised winding number (k,) of the triangles ``corners`` (t, 3, 3) around ``points`` (k, 3).
+
+    The signed solid angle of each triangle seen from the point (Van Oosterom
+    and Strackee's formula), summed and divided by 4 pi: 1 inside a closed,
+    outward-facing surface, 0 outside it, 1/2 on it.
+    """
+    out = np.zeros(len(points))
+    step = max(1, 2_000_000 // max(len(corners), 1))
+    for start in range(0, len(points), step):
+        a, b, c = (corners[None, :, j] - points[start:start + step, None] for j in range(3))
+        la, lb, lc = (np.linalg.norm(v, axis=2) for v in (a, b, c))
+        numerator = np.einsum("ktd,ktd->kt", a, np.cross(b, c))
+        denominator = (la * lb * lc + np.einsum("ktd,ktd->kt", a, b) * lc + np.einsum("ktd,ktd->kt", b, c) * la
+                       + np.einsum("ktd,ktd->kt", c, a) * lb)
+        out[start:start + step] = 2.0 * np.arctan2(numerator, denominator).sum(axis=1) / (4.0 * np.pi)
+    return out
+
+
+def pieces(positions, triangles):
+    """(t,) int: the connected piece of each triangle (triangles with a vertex at the same position are
+    one piece: a box built of six separate grids is one piece)."""
+    _, same = np.unique(np.asarray(positions, dtype=np.float64), axis=0, return_inverse=True)
+    triangles = same.reshape(-1)[np.asarray(triangles)]
+    label = np.arange(triangles.max() + 1 if len(triangles) else 0)
+    while True:
+        smallest = label[triangles].min(axis=1)
+        before = label.copy()
+        for c in range(3):
+            np.minimum.at(label, triangles[:, c], smallest)
+        label = label[label]                                            # jump along the chains
+        if np.array_equal(label, before):
+            return np.unique(label[triangles[:, 0]], return_inverse=True)[1].reshape(-1)
+
+
+def largest_piece_winding(positions, triangles, points):
+    """(k,) the largest winding number of any one piece (:func:`pieces`) around each point (k, 3).
+
+    Pieces one by one, not the whole mesh: a room's walls face inward and
+    would cancel the 1 of a block standing inside it.  Only pieces whose
+    bounding box holds the point are asked: from outside its box a piece lies
+    in a half-space and winds at most 1/2 around the point.
+    """
+    positions = np.asarray(positions, dtype=np.float64)
+    triangles = np.asarray(triangles)
+    points = np.asarray(points, dtype=np.float64)
+    piece = pieces(positions, triangles)
+    out = np.zeros(len(points))
+    for p in range(piece.max() + 1 if len(piece) else 0):
+        corners = positions[triangles[piece == p]]
+        low, high = corners.min(axis=(0, 1)), corners.max(axis=(0, 1))
+        ask = np.flatnonzero(np.all((points >= low) & (points <= high), axis=1))
+        if len(ask):
+            out[ask] = np.maximum(out[ask], winding_numbers(corners, points[ask]))
     return out
 
 

@@ -1,0 +1,115 @@
+"""Texels inside another piece (core/sealed.py, ao.buried, job.buried_rim and job.crease_points): found from
+their rays, and the rim of a buried region shaded again at the crease."""
+
+import numpy as np
+
+import meshes
+from seamless_ao.core.ao import AOParams, BVHCaster, buried, occlusion_sums
+from seamless_ao.core.job import buried_rim, crease_points
+from seamless_ao.core.raster import Texels
+from seamless_ao.core.sealed import MAX_OPENING, sealed_triangles
+
+
+def sheet(size=2.0, z=0.0, rows=4, x=0.0):
+    """A flat square sheet at height z centred on (x, 0), facing +Z (rows x rows quads)."""
+    s = np.linspace(-0.5 * size, 0.5 * size, rows + 1)
+    u, v = np.meshgrid(s, s, indexing="ij")
+    positions = np.stack([u.ravel() + x, v.ravel(), np.full(u.size, z)], axis=1)
+    return positions, meshes.grid_triangles(rows + 1, rows + 1)
+
+
+def together(*pieces):
+    positions, triangles = [], []
+    for p, t in pieces:
+        triangles.append(np.asarray(t) + sum(len(q) for q in positions))
+        positions.append(p)
+    return np.vstack(positions), np.vstack(triangles)
+
+
+def facing_up(positions, triangles):
+    corner = positions[triangles]
+    return np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0])[:, 2] > 0
+
+
+def test_a_box_of_six_separate_grids_is_sealed_an_inside_out_box_and_a_sheet_are_not():
+    box = meshes.box(subdivisions=3)                           # six grids that share only positions
+    assert sealed_triangles(*box).all()
+    assert not sealed_triangles(box[0], box[1][:, ::-1]).any()
+    positions, triangles = sheet()
+    assert facing_up(positions, triangles).all() or (~facing_up(positions, triangles)).all()
+    assert not sealed_triangles(positions, triangles).any()
+    mixed = together(box, sheet(z=3.0))
+    flags = sealed_triangles(*mixed)
+    assert flags[:len(box[1])].all() and not flags[len(box[1]):].any()
+
+
+def test_a_shell_with_a_small_hole_is_sealed_a_half_open_one_is_not():
+    positions, triangles = meshes.uv_sphere(rings=24, segments=48)
+    z = positions[triangles].mean(axis=1)[:, 2]
+    assert sealed_triangles(positions, triangles[z < 0.9]).all()       # a cap cut off: opening ~ 0.02
+    # a shallow dish (the cap below z = -0.7: opening (1 - h) / 2 = 0.85) is open: not sealed
+    bowl = triangles[z < -0.7]
+    corner = positions[bowl]
+    cross = np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0])
+    opening = np.linalg.norm(cross.sum(axis=0)) / np.linalg.norm(cross, axis=1).sum()
+    assert opening > MAX_OPENING
+    assert not sealed_triangles(positions, bowl).any()
+
+
+def behind_counts(points, normals, caster, params):
+    texel_ids = np.arange(len(points))
+    return occlusion_sums(points, normals, normals, texel_ids, np.arange(params.rays), params, caster)
+
+
+def test_points_inside_a_closed_piece_are_buried_points_behind_an_open_sheet_are_not():
+    box = meshes.box(size=(2.0, 2.0, 2.0), center=(0.0, 0.0, 5.0))
+    cover = sheet(size=4.0, z=0.3, x=-4.0)                     # an open sheet over the floor, facing up
+    floor = sheet(size=20.0, z=0.0)
+    positions, triangles = together(box, cover, floor)
+    params = AOParams(rays=32, max_distance=3.0, adaptive=False)
+    up = np.tile([0.0, 0.0, 1.0], (3, 1))
+    points = np.array([[0.0, 0.0, 4.5],                        # inside the box (facing up, into its top)
+                       [-4.0, 0.0, 0.0],                       # on the floor under the sheet
+                       [6.0, 6.0, 0.0]])                       # on the floor, out in the open
+    caster = BVHCaster(positions, triangles, sealed_triangles(positions, triangles))
+    sums, behind = behind_counts(points, up, caster, params)
+    assert behind.tolist()[0] == 32 and sums[0] == 32          # every ray meets the inside of the box
+    assert behind[1] == 0 and sums[1] > 24                     # the back of the sheet: not sealed, occludes
+    assert behind[2] == 0
+    assert buried(behind, 32, params).tolist() == [True, False, False]
+    # a caster told nothing is sealed buries nothing; ignore_backfaces buries nothing
+    plain = BVHCaster(positions, triangles)
+    assert not buried(behind_counts(points, up, plain, params)[1], 32, params).any()
+    params.ignore_backfaces = True
+    assert not buried(behind, 32, params).any()
+
+
+def test_the_rim_of_a_buried_region_is_its_texels_beside_a_seen_one_of_their_chart():
+    """A 6 x 4 image, one chart on columns 0-3, another on 4-5: columns 2-3 of the first are buried."""
+    width, height = 6, 4
+    index = np.arange(width * height)
+    x, row = index % width, index // width
+    chart = np.where(x < 4, 0, 1)
+    buried_texel = (x >= 2) & (x < 4)
+    texels = Texels(width, height, index, np.zeros(len(index), dtype=np.int64), np.zeros(len(index), np.int8))
+    computed = np.ones(len(index), dtype=bool)
+    rim, neighbour = buried_rim(texels, chart, buried_texel, computed)
+    assert np.array_equal(np.sort(rim), np.flatnonzero(x == 2))        # column 3 touches only chart 1
+    assert (x[neighbour] == 1).all() and np.array_equal(row[neighbour], row[rim])   # a side before a corner
+    assert not len(buried_rim(texels, chart, np.zeros(len(index), bool), computed)[0])
+
+
+def test_a_crease_point_is_the_last_visible_point_on_the_way_to_the_buried_one():
+    """A floor (z = 0, facing up) with a closed box standing in it (x from 1 to 3, z from -1 to 1)."""
+    box = meshes.box(size=(2.0, 2.0, 2.0), center=(2.0, 0.0, 0.0))
+    positions, triangles = together(box, sheet(size=20.0, z=0.0))
+    caster = BVHCaster(positions, triangles)
+    params = AOParams(rays=16, max_distance=5.0, offset=1e-4)
+    up = np.tile([0.0, 0.0, 1.0], (3, 1))
+    near = np.array([[0.6, 0.0, 0.0], [0.9, 0.5, 0.0], [-3.0, 0.0, 0.0]])
+    far = np.array([[1.4, 0.0, 0.0], [1.2, 0.5, 0.0], [-2.0, 0.0, 0.0]])     # the third: nothing between
+    crease = crease_points(near, up, up, far, params, caster)
+    assert np.allclose(crease[:2, 0], 1.0 - params.offset, atol=1e-9)   # just before the box's side
+    assert np.allclose(crease[:2, 1], near[:2, 1]) and (crease[:2, 2] > 0).all()    # on the floor's visible side
+    assert (crease[:2, 2] <= params.offset).all()
+    assert np.allclose(crease[2], near[2] + [0.0, 0.0, params.offset])  # the visible point itself
