@@ -24,11 +24,33 @@ MAX_OPENING = 0.75
 
 def exact_weld(positions):
     """(v,) int64: vertices at exactly the same position share an index (imported meshes split
-    vertices along UV seams and hard edges; the piece is still one)."""
-    positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
-    if not len(positions):
+    vertices along UV seams and hard edges; the piece is still one).
+
+    One sort of a 64-bit hash of the coordinates' bits (a sort of rows would
+    be three times slower); equal hashes of different positions, vanishingly
+    rare, would only leave two vertices apart.
+    """
+    positions = np.ascontiguousarray(np.asarray(positions, dtype=np.float64).reshape(-1, 3) + 0.0)  # -0.0 -> 0.0
+    count = len(positions)
+    if not count:
         return np.zeros(0, dtype=np.int64)
-    return np.unique(positions, axis=0, return_inverse=True)[1].reshape(-1).astype(np.int64)
+    bits = positions.view(np.uint64)
+    key = _mix(_mix(_mix(bits[:, 0]) ^ bits[:, 1]) ^ bits[:, 2])
+    order = np.argsort(key, kind="stable")
+    ordered = positions[order]
+    new = np.ones(count, dtype=bool)
+    new[1:] = (key[order][1:] != key[order][:-1]) | (ordered[1:] != ordered[:-1]).any(axis=1)
+    welded = np.empty(count, dtype=np.int64)
+    welded[order] = np.cumsum(new) - 1
+    return welded
+
+
+def _mix(value):
+    """A 64-bit mixing function (splitmix64's finaliser): every input bit moves every output bit, so
+    coordinates whose low bits are all zero (0.5, 2.0) still hash apart."""
+    value = (value ^ (value >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    value = (value ^ (value >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return value ^ (value >> np.uint64(31))
 
 
 def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):
@@ -59,10 +81,12 @@ def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):
     piece = connected_components(int(welded.max()) + 1, np.concatenate([welded[:, :2], welded[:, 1:]]))[welded[:, 0]]
     pieces = int(piece.max()) + 1
     centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0))
-    a, b, c = (positions[triangles[:, k]] - centre for k in range(3))
-    cross = np.cross(b - a, c - a)                                              # 2 * area * normal
-    area = np.bincount(piece, weights=np.sqrt((cross * cross).sum(axis=1)), minlength=pieces)
-    normal_sum = np.stack([np.bincount(piece, weights=cross[:, k], minlength=pieces) for k in range(3)], axis=1)
+    a, b, c = ((positions[triangles[:, k]] - centre).T for k in range(3))       # (3, t) each
+    u, v = b - a, c - a
+    cross = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])   # 2 * area * normal
+    area = np.bincount(piece, weights=np.sqrt(cross[0] ** 2 + cross[1] ** 2 + cross[2] ** 2), minlength=pieces)
+    normal_sum = np.stack([np.bincount(piece, weights=k, minlength=pieces) for k in cross], axis=1)
     opening = np.sqrt((normal_sum * normal_sum).sum(axis=1)) / np.maximum(area, 1e-300)
-    volume = np.bincount(piece, weights=np.einsum("td,td->t", a, np.cross(b, c)), minlength=pieces)
+    # 6 x signed volume: a . (b x c), which equals a . ((b - a) x (c - a))
+    volume = np.bincount(piece, weights=a[0] * cross[0] + a[1] * cross[1] + a[2] * cross[2], minlength=pieces)
     return ((opening < max_opening) & (volume > 0.0) & (area > 0.0))[piece]

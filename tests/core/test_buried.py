@@ -7,7 +7,7 @@ import meshes
 from seamless_ao.core.ao import AOParams, BVHCaster, buried, occlusion_sums
 from seamless_ao.core.job import buried_rim, crease_points
 from seamless_ao.core.raster import Texels
-from seamless_ao.core.sealed import MAX_OPENING, sealed_triangles
+from seamless_ao.core.sealed import MAX_OPENING, exact_weld, sealed_triangles
 
 
 def sheet(size=2.0, z=0.0, rows=4, x=0.0):
@@ -29,6 +29,18 @@ def together(*pieces):
 def facing_up(positions, triangles):
     corner = positions[triangles]
     return np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0])[:, 2] > 0
+
+
+def test_exact_weld_joins_exactly_the_vertices_at_the_same_position():
+    """The same partition as numpy's unique rows, on coordinates with many repeats and all-zero low bits."""
+    rng = np.random.default_rng(1)
+    positions = np.round(rng.normal(size=(20000, 3)), 1) * 0.5
+    positions[::7] *= -1.0
+    positions[::11, 0] = -0.0                                    # -0.0 and 0.0 are one position
+    welded = exact_weld(positions)
+    _, expected = np.unique(positions + 0.0, axis=0, return_inverse=True)
+    pairs = np.unique(np.stack([welded, expected.reshape(-1)], axis=1), axis=0)
+    assert len(pairs) == welded.max() + 1 == expected.max() + 1
 
 
 def test_a_box_of_six_separate_grids_is_sealed_an_inside_out_box_and_a_sheet_are_not():
