@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .graph import Adjacency, connected_components
-from .mesh import group_boxes
+from .mesh import group_boxes, scatter_rows
 from .overlap import FoldMemory, fold_conflicts, overwound_vertices
 
 #: (6, 3) unit vector of each signed axis.
@@ -137,9 +137,9 @@ def face_axis_cosines(mesh):
         polygon may have triangles facing away from an axis its normal faces).
     """
     face_cos = mesh.face_normal @ AXES.T
-    worst_cos = np.full((mesh.face_count, 6), np.inf)
     live = ~mesh.degenerate
-    np.minimum.at(worst_cos, mesh.triangle_face[live], mesh.triangle_normal[live] @ AXES.T)
+    worst_cos = scatter_rows(np.minimum, np.full((mesh.face_count, 6), np.inf), mesh.triangle_face[live],
+                             mesh.triangle_normal[live] @ AXES.T)
     worst_cos[~np.isfinite(worst_cos)] = -1.0
     return face_cos, worst_cos
 
@@ -206,7 +206,8 @@ def triangle_chart_geometry(mesh, charts, axis):
     signed = np.where(group >= 0, charts.chart_axis[np.maximum(group, 0)], 2 * axis)
     corners = mesh.positions[mesh.triangles]
     uv, depth = project(corners, signed[:, None])
-    cos = np.clip((mesh.triangle_normal * AXES[signed]).sum(1), 0.05, 1.0)
+    # the normal's component along the signed axis (AXES rows are unit axes)
+    cos = np.clip(mesh.triangle_normal[np.arange(len(signed)), signed // 2] * AXES[signed].sum(1), 0.05, 1.0)
     slope = np.sqrt(1.0 - cos**2) / cos
     return group, uv, depth, slope
 

@@ -33,16 +33,26 @@ def corner_max(shape):
     return np.maximum(high, shape[:, 2]) if shape.shape[1] > 2 else high
 
 
+def scatter_rows(ufunc, out, index, values):
+    """``ufunc.at(out, index, values)`` for rows: ``out`` (n, c), ``index`` (k,), ``values`` (k, c).
+
+    One column at a time: numpy's ``at`` over rows takes a slow path, three
+    times slower than over a column.  The same result to the bit (each column
+    is still reduced in index order).  Returns ``out``.
+    """
+    for c in range(out.shape[1]):
+        ufunc.at(out[:, c], index, values[:, c])
+    return out
+
+
 def group_boxes(triangle, group, count):
     """Bounding box of each group of 2D triangles: ``low, high`` (count, 2) float64.
 
     ``triangle`` (k, 3, 2), ``group`` (k,) int in ``[0, count)``; an empty group
     gets ``low = inf, high = -inf``.
     """
-    low = np.full((count, 2), np.inf)
-    high = np.full((count, 2), -np.inf)
-    np.minimum.at(low, group, corner_min(triangle))
-    np.maximum.at(high, group, corner_max(triangle))
+    low = scatter_rows(np.minimum, np.full((count, 2), np.inf), group, corner_min(triangle))
+    high = scatter_rows(np.maximum, np.full((count, 2), -np.inf), group, corner_max(triangle))
     return low, high
 
 
@@ -197,8 +207,7 @@ class TriangleMesh:
     @property
     def face_normal(self):
         """(f, 3) float64: area-weighted unit normal of each face (zero if degenerate)."""
-        summed = np.zeros((self.face_count, 3))
-        np.add.at(summed, self.triangle_face, self.triangle_cross)
+        summed = scatter_rows(np.add, np.zeros((self.face_count, 3)), self.triangle_face, self.triangle_cross)
         length = np.linalg.norm(summed, axis=1)
         out = np.zeros_like(summed)
         face_scale = np.zeros(self.face_count)
@@ -289,8 +298,7 @@ def weld_vertices(positions, tolerance, groups=None):
         groups = np.zeros(count, dtype=np.int64)
     groups = np.asarray(groups, dtype=np.int64)
     group_count = int(groups.max()) + 1
-    group_low = np.full((group_count, 3), np.inf)
-    np.minimum.at(group_low, groups, positions)
+    group_low = scatter_rows(np.minimum, np.full((group_count, 3), np.inf), groups, positions)
     cell = (positions - group_low[groups]) / np.broadcast_to(np.asarray(tolerance, dtype=np.float64), (count,))[:, None]
     cells_per_axis = np.floor(cell.max(axis=0)).astype(np.int64) + 2
     single_key = float(np.prod(cells_per_axis.astype(np.float64))) * group_count < 2.0**62

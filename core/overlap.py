@@ -237,14 +237,17 @@ def segment_distance(p0, p1, q0, q1):
         Parameters of the closest points on each segment, in [0, 1].
     """
     d1, d2, r = p1 - p0, q1 - q0, q0 - p0
+    # per component: numpy's sums over a trailing axis of 2 are slow, and x + y is the same sum
     options = []
     for point, start, direction, on_first in ((q0, p0, d1, True), (q1, p0, d1, True),
                                               (p0, q0, d2, False), (p1, q0, d2, False)):
-        length2 = (direction**2).sum(1)
-        param = np.clip(np.divide(((point - start) * direction).sum(1), length2,
-                                  out=np.zeros(len(length2)), where=length2 > 0), 0.0, 1.0)
-        gap = np.linalg.norm(start + param[:, None] * direction - point, axis=1)
-        options.append((gap, param, on_first))
+        dx, dy = direction[:, 0], direction[:, 1]
+        length2 = dx * dx + dy * dy
+        along = (point[:, 0] - start[:, 0]) * dx + (point[:, 1] - start[:, 1]) * dy
+        param = np.clip(np.divide(along, length2, out=np.zeros(len(length2)), where=length2 > 0), 0.0, 1.0)
+        gap_x = start[:, 0] + param * dx - point[:, 0]
+        gap_y = start[:, 1] + param * dy - point[:, 1]
+        options.append((np.sqrt(gap_x * gap_x + gap_y * gap_y), param, on_first))
     distance = np.full(len(p0), np.inf)
     s = np.zeros(len(p0))
     t = np.zeros(len(p0))
@@ -258,9 +261,11 @@ def segment_distance(p0, p1, q0, q1):
     cross = meet & (cs >= 0) & (cs <= 1) & (ct >= 0) & (ct <= 1)
     # the lines' crossing, measured rather than assumed: for (nearly) collinear
     # segments the parameters are 0 / tiny and the "crossing" may be far apart
-    apart = p0 + cs[:, None] * d1 - (q0 + ct[:, None] * d2)
-    cross &= np.sqrt((apart * apart).sum(1)) < distance
-    distance = np.where(cross, np.sqrt((apart * apart).sum(1)), distance)
+    apart_x = p0[:, 0] + cs * d1[:, 0] - (q0[:, 0] + ct * d2[:, 0])
+    apart_y = p0[:, 1] + cs * d1[:, 1] - (q0[:, 1] + ct * d2[:, 1])
+    apart = np.sqrt(apart_x * apart_x + apart_y * apart_y)
+    cross &= apart < distance
+    distance = np.where(cross, apart, distance)
     s = np.where(cross, cs, s)
     t = np.where(cross, ct, t)
     return distance, s, t
@@ -270,7 +275,7 @@ def _triangle_angles(corners):
     """Interior angle at each corner of 2D triangles: ``corners`` (k, 3, 2) -> (k, 3)."""
     e1 = corners[:, [1, 2, 0]] - corners
     e2 = corners[:, [2, 0, 1]] - corners
-    return np.abs(np.arctan2(cross2d(e1, e2), (e1 * e2).sum(-1)))
+    return np.abs(np.arctan2(cross2d(e1, e2), e1[..., 0] * e2[..., 0] + e1[..., 1] * e2[..., 1]))
 
 
 def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
