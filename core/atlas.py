@@ -88,8 +88,9 @@ class Atlas:
         (thesis §7.1.1), so all three lookups read the same surface.
         """
         member = np.where(self.membership >= 0, self.membership, self.dominant_member[:, None])
-        uv = self.member_uv[member] / self.size
-        return np.clip(uv, 0.5 / self.size, 1.0 - 0.5 / self.size)
+        uv = self.member_uv[member]
+        uv /= self.size
+        return np.clip(uv, 0.5 / self.size, 1.0 - 0.5 / self.size, out=uv)
 
 
 def chart_members(mesh, charts):

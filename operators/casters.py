@@ -30,7 +30,10 @@ def mesh_from_triangles(name, positions, triangles):
     mesh.vertices.add(len(positions))
     mesh.attributes["position"].data.foreach_set("vector", positions.ravel())
     mesh.loops.add(triangles.size)
-    mesh.loops.foreach_set("vertex_index", triangles.ravel())
+    if ".corner_vert" in mesh.attributes:            # a copy: loops' "vertex_index" goes loop by loop (35 ms per 750k)
+        mesh.attributes[".corner_vert"].data.foreach_set("value", triangles.ravel())
+    else:
+        mesh.loops.foreach_set("vertex_index", triangles.ravel())
     mesh.polygons.add(len(triangles))
     mesh.polygons.foreach_set("loop_start", np.arange(0, triangles.size, 3, dtype=np.int32))
     mesh.update()

@@ -55,9 +55,16 @@ def mesh_fingerprint(ob):
     positions and of its loops' vertices (a few ms for a million vertices)."""
     mesh = ob.data
     positions = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    mesh.vertices.foreach_get("co", positions)
     loop_vertices = np.empty(len(mesh.loops), dtype=np.int32)
-    mesh.loops.foreach_get("vertex_index", loop_vertices)
+    # through the attributes, a copy each: vertices' "co" and loops' "vertex_index" go element by
+    # element (18 ms for 500k loops)
+    attributes = mesh.attributes
+    if "position" in attributes and ".corner_vert" in attributes:
+        attributes["position"].data.foreach_get("vector", positions)
+        attributes[".corner_vert"].data.foreach_get("value", loop_vertices)
+    else:
+        mesh.vertices.foreach_get("co", positions)
+        mesh.loops.foreach_get("vertex_index", loop_vertices)
     return (mesh.as_pointer(), len(mesh.vertices), len(mesh.loops), len(mesh.polygons),
             zlib.crc32(positions.tobytes()), zlib.crc32(loop_vertices.tobytes()))
 

@@ -12,7 +12,10 @@ def triangle_arrays(mesh):
     """Vertex positions (v, 3) float64 and Blender's triangulation (t, 3) int64 of a ``bpy.types.Mesh``."""
     mesh.calc_loop_triangles()
     positions = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    mesh.vertices.foreach_get("co", positions)
+    if "position" in mesh.attributes:                # a copy: vertices' "co" goes vertex by vertex
+        mesh.attributes["position"].data.foreach_get("vector", positions)
+    else:
+        mesh.vertices.foreach_get("co", positions)
     triangles = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
     mesh.loop_triangles.foreach_get("vertices", triangles)
     return positions.reshape(-1, 3).astype(np.float64), triangles.reshape(-1, 3).astype(np.int64)
