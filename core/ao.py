@@ -278,22 +278,21 @@ def occlusion_sums(points, normals, geometric, texel_ids, ray_indices, params, c
 
 
 def buried(behind, rays, params):
-    """Points inside a closed piece: most of their rays hit the back of a face.
+    """Points inside a closed piece: most of their rays hit the back of a sealed face.
 
     A texel whose surface point lies inside another piece (where two shells
     intersect: Suzanne's eyes in her head, a crate pushed into a wall) is
     never seen, and its AO is 0; bilinear filtering would still blend that 0
     into the visible texels beside it, a dark line along the intersection
-    (:func:`.fill.fill_buried_rim` gives those texels their visible
-    neighbours' value instead).  From inside a closed, consistently oriented
-    piece every ray meets the piece's inside, the back of its faces; from a
-    visible point rays meet front faces.  So a point is buried when more than
-    half of its rays hit back faces.  Behind an open sheet (a drape before a
-    wall) rays meet its back too, though the point is seen round the sheet's
-    edges: only the rim of a buried region is ever replaced, so such a
-    mistake costs one texel's width along the sheet's edge.  With
-    ``ignore_backfaces`` the user has said back faces are not walls, and
-    nothing is buried.
+    (:class:`..job.AOJob` shades the rim of each buried region again at the
+    crease).  From inside a closed, consistently oriented piece every ray
+    meets the piece's inside, the back of its faces; from a visible point rays
+    meet front faces.  Only faces of (nearly) closed pieces count
+    (:mod:`.sealed`): behind an open sheet (a drape before a wall) rays meet
+    its back too, though the point is seen round the sheet's edges.  So a
+    point is buried when more than half of its rays hit the back of sealed
+    faces.  With ``ignore_backfaces`` the user has said back faces are not
+    walls, and nothing is buried.
 
     Parameters
     ----------

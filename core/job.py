@@ -123,10 +123,7 @@ class AOJob:
             selection = batch[part_of == part]
             params, caster, to_ray = self.parts[part]
             if where is None:
-                points, normals, geometric = texel_geometry(
-                    self.layout.texels, self.layout.atlas, self.layout.mesh, selection)
-                points, normals = to_ray(points, normals)
-                _, geometric = to_ray(points, geometric)
+                points, normals, geometric = self._ray_geometry(to_ray, selection)
             else:                                    # given points, in ray space (the creases)
                 points, normals, geometric = (a[self.position:stop][part_of == part] for a in where)
             sums, behind = occlusion_sums(
@@ -171,30 +168,32 @@ class AOJob:
         self.creased = True
         computed = self.computed
         self.buried[computed] = buried(self.behind[computed], np.maximum(self.cast_count[computed], 1), self.params)
-        texels, atlas, mesh = self.layout.texels, self.layout.atlas, self.layout.mesh
-        rim, donor = buried_rim(texels, atlas.member_chart[texels.member], self.buried, computed)
+        texels = self.layout.texels
+        rim, donor = buried_rim(texels, self.layout.atlas.member_chart[texels.member], self.buried, computed)
         if not len(rim):
             return
-        order = np.lexsort((texels.index[rim], self.layout.part_of_texel(rim)))
-        rim, donor = rim[order], donor[order]
+        part_of = self.layout.part_of_texel(rim)
+        order = np.lexsort((texels.index[rim], part_of))
+        rim, donor, part_of = rim[order], donor[order], part_of[order]
         points = np.empty((len(rim), 3))
         normals, geometric = np.empty_like(points), np.empty_like(points)
-        part_of = self.layout.part_of_texel(rim)
         for part in np.unique(part_of):
             mine = np.flatnonzero(part_of == part)
             params, caster, to_ray = self.parts[part]
-            own, own_normal, own_geometric = texel_geometry(texels, atlas, mesh, rim[mine])
-            near, near_normal, near_geometric = texel_geometry(texels, atlas, mesh, donor[mine])
-            own, normals[mine] = to_ray(own, own_normal)
-            geometric[mine] = to_ray(own, own_geometric)[1]
-            near, near_normal = to_ray(near, near_normal)
-            near_geometric = to_ray(near, near_geometric)[1]
-            points[mine] = crease_points(near, near_normal, near_geometric, own, params, caster)
+            own, normals[mine], geometric[mine] = self._ray_geometry(to_ray, rim[mine])
+            points[mine] = crease_points(*self._ray_geometry(to_ray, donor[mine]), own, params, caster)
         self.buried[rim] = False
         self.sums[rim] = 0.0
         self.ray_count[rim] = self.params.rays
         self.passes.append([rim, np.arange(self.params.rays), (points, normals, geometric)])
         self.work_expected = self.work_done + len(rim) * self.params.rays
+
+    def _ray_geometry(self, to_ray, selection):
+        """Point, shading normal and geometric normal (k, 3) of some texels, in their part's ray space."""
+        points, normals, geometric = texel_geometry(self.layout.texels, self.layout.atlas, self.layout.mesh,
+                                                    selection)
+        points, normals = to_ray(points, normals)
+        return points, normals, to_ray(points, geometric)[1]
 
     def _after_pilot(self):
         """Decide which texels stop early (all classes together); queue the rest for their remaining rays."""

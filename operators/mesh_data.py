@@ -8,14 +8,31 @@ from ..core.errors import SeamlessAOError
 from ..core.mesh import TriangleMesh, boxes_near
 
 
+def vertex_positions(mesh):
+    """(3v,) float32 vertex positions of a ``bpy.types.Mesh``, flat."""
+    return _copy(mesh, "position", "vector", mesh.vertices, "co", np.empty(len(mesh.vertices) * 3, np.float32))
+
+
+def loop_vertices(mesh):
+    """(l,) int32 vertex of each loop (face corner)."""
+    return _copy(mesh, ".corner_vert", "value", mesh.loops, "vertex_index", np.empty(len(mesh.loops), np.int32))
+
+
+def _copy(mesh, attribute, key, elements, name, out):
+    """Fill ``out`` from ``mesh.attributes[attribute]``, copied in one go, or where the mesh has no such
+    attribute from ``elements``' property ``name``, which goes element by element (vertices' ``co`` and
+    loops' ``vertex_index``: 18 ms for 500k loops, against under 1 ms)."""
+    if attribute in mesh.attributes:
+        mesh.attributes[attribute].data.foreach_get(key, out)
+    else:
+        elements.foreach_get(name, out)
+    return out
+
+
 def triangle_arrays(mesh):
     """Vertex positions (v, 3) float64 and Blender's triangulation (t, 3) int64 of a ``bpy.types.Mesh``."""
     mesh.calc_loop_triangles()
-    positions = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    if "position" in mesh.attributes:                # a copy: vertices' "co" goes vertex by vertex
-        mesh.attributes["position"].data.foreach_get("vector", positions)
-    else:
-        mesh.vertices.foreach_get("co", positions)
+    positions = vertex_positions(mesh)
     triangles = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
     mesh.loop_triangles.foreach_get("vertices", triangles)
     return positions.reshape(-1, 3).astype(np.float64), triangles.reshape(-1, 3).astype(np.int64)
