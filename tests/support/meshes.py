@@ -137,3 +137,27 @@ def _orient_each(positions, tris, directions):
 def split_vertices(positions, triangles):
     """Every triangle gets its own three vertices (an STL-style import)."""
     return positions[triangles].reshape(-1, 3), np.arange(len(triangles) * 3).reshape(-1, 3)
+
+
+def pierced_box():
+    """A 2 x 2 x 2 box with a 0.6-wide box pushed halfway into its top, turned 30 degrees (not along any
+    texel grid).
+
+    Returns positions (v, 3), triangles (t, 3) and ``gap(points (k, 3)) -> (k,)``: each point's distance
+    to the intersection, for points on the big box's top or the small box's sides (inf elsewhere).
+    """
+    big = box(size=(2.0, 2.0, 2.0), subdivisions=6)
+    small_positions, small_triangles = box(size=(0.6, 0.6, 0.6), center=(0.0, 0.0, 1.0), subdivisions=3)
+    turn = np.radians(30.0)
+    rotation = np.array([[np.cos(turn), -np.sin(turn), 0], [np.sin(turn), np.cos(turn), 0], [0, 0, 1]])
+    shift = np.array([0.17, -0.11, 0.0])
+    positions = np.vstack([big[0], small_positions @ rotation.T + shift])
+    triangles = np.vstack([big[1], small_triangles + len(big[0])])
+
+    def gap(points):
+        across = np.abs(((points - shift) @ rotation)[:, :2]).max(axis=1)   # 0.3 on the small box's sides
+        on_top = np.isclose(points[:, 2], 1.0) & (across > 0.3)
+        on_small = (across <= 0.3 + 1e-9) & (points[:, 2] > 1.0)
+        return np.where(on_top, across - 0.3, np.where(on_small, points[:, 2] - 1.0, np.inf))
+
+    return positions, triangles, gap
