@@ -21,11 +21,11 @@ The package must be imported with relative imports only: Blender loads it as
 from . import operators, panels
 from .core.errors import BakeCancelled, SeamlessAOError
 from .core.settings import BakeSettings
-from .operators.cleanup import clear
-from .operators.export import resample, to_color_attribute
-from .operators.preview import set_preview
-from .operators.batch import batch
-from .operators.session import BakeReport, bake
+from .operators.adapters.clearing import clear
+from .operators.adapters.exports import resample, to_color_attribute
+from .operators.adapters.preview import set_preview
+from .operators.adapters.session import BakeReport, bake
+from .operators.batch.runner import batch
 
 __all__ = ["bake", "batch", "clear", "set_preview", "resample", "to_color_attribute", "BakeSettings", "BakeReport",
            "SeamlessAOError", "BakeCancelled"]

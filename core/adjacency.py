@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .graph import group_starts, pairs_within_groups, sort_order
+from .graph import group_starts, pairs_within_groups, sort_order, unique_rows
 from .mesh import WELD_TOLERANCE, MeshReport, duplicate_triangle_count, weld_vertices
 
 
@@ -110,13 +110,3 @@ def face_adjacency(mesh, weld_tolerance=WELD_TOLERANCE):
     return Topology(welded, welded_triangles, face_edges, report)
 
 
-def unique_rows(pairs):
-    """Sorted unique rows of a (n, 2) non-negative int array, as int64."""
-    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
-    if not len(pairs):
-        return pairs
-    order = sort_order(pairs[:, 0], pairs[:, 1])
-    pairs = pairs[order]
-    keep = np.ones(len(pairs), dtype=bool)
-    keep[1:] = (pairs[1:] != pairs[:-1]).any(axis=1)
-    return pairs[keep]

@@ -10,8 +10,7 @@ TEXEL_FRACTION = 0.8
 
 
 #: Bytes per triangle, per texel, per image pixel, and a fixed part (ray batches): a least-squares fit
-#: (of the relative error) to the peaks ``tests/bench/bench_memory.py`` measured on eight bakes from
-#: 16k to 1M triangles and 512² to 2048², all then within ±10%.
+#: (of the relative error) to the peaks ``tests/bench/bench_memory.py`` measures on its eight bakes.
 PER_TRIANGLE = 1600
 PER_TEXEL = 92
 PER_PIXEL = 24

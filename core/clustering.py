@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .graph import Adjacency, connected_components
-from .mesh import group_boxes, scatter_rows
+from .geometry2d import group_boxes
+from .graph import Adjacency, connected_components, scatter_rows
 from .overlap import FoldMemory, fold_conflicts, overwound_vertices
 
 #: (6, 3) unit vector of each signed axis.

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .geometry2d import band_x_extent, corner_max, corner_min, group_boxes
 from .graph import index_in_runs
-from .mesh import band_x_extent, corner_max, corner_min, group_boxes
 
 #: Most bands per chart (a chart's cover has twice as many triangles).
 MAX_ROWS = 32

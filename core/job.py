@@ -10,6 +10,7 @@ import time
 import numpy as np
 
 from .ao import buried, occlusion_sums, pilot_rays, settle_pilot
+from .grid import neighbour_values
 from .raster import texel_geometry
 
 #: Target duration of one :meth:`AOJob.step` (seconds).
@@ -239,12 +240,9 @@ def ray_shares(layout, computed):
     member_weight = np.max(np.divide(component2, length2, out=np.ones_like(component2), where=length2 > 1e-24), axis=1)
     weight = np.zeros(texels.width * texels.height)
     weight[texels.index[computed]] = member_weight[texels.member[computed]]
-    grid = np.pad(weight.reshape(texels.height, texels.width), 1)
-    near = grid[1:-1, 1:-1].copy()
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            near = np.maximum(near, grid[1 + dy:1 + dy + texels.height, 1 + dx:1 + dx + texels.width])
-    texel_weight = near.ravel()[texels.index]
+    texel_weight = weight[texels.index]
+    for other in neighbour_values(weight, texels.index, texels.width, texels.height, 0.0):
+        texel_weight = np.maximum(texel_weight, other)
     halvings = np.floor(-np.log2(np.clip(texel_weight, 2.0 ** -MAX_RAY_HALVINGS, 1.0))).astype(np.int64)
     return np.where(computed, np.clip(halvings, 0, MAX_RAY_HALVINGS), 0)
 
@@ -262,17 +260,12 @@ def neighbours_agree(texels, selection, code):
     selection : (k,) indices into ``texels`` that have pilot results
     code : (k,) int8 codes from :func:`.ao.pilot_agreement`
     """
-    width, height = texels.width, texels.height
-    grid = np.full((height + 2) * (width + 2), _NO_VOTE, dtype=np.int8)
+    votes = np.full(texels.width * texels.height, _NO_VOTE, dtype=np.int8)
     index = texels.index[selection]
-    x, y = index % width + 1, index // width + 1
-    grid[y * (width + 2) + x] = code
+    votes[index] = code
     agree = np.ones(len(selection), dtype=bool)
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            if dx or dy:
-                other = grid[(y + dy) * (width + 2) + x + dx]
-                agree &= (other == code) | (other == _NO_VOTE)
+    for other in neighbour_values(votes, index, texels.width, texels.height, _NO_VOTE):
+        agree &= (other == code) | (other == _NO_VOTE)
     return agree
 
 
@@ -291,15 +284,12 @@ def buried_rim(texels, chart_of_texel, buried_texel, computed):
     neighbour : (k,) int64, a seen texel of the same chart among each one's 8 neighbours (the 4 sides
         before the corners)
     """
-    width, height = texels.width, texels.height
     seen = computed & ~buried_texel
-    grid = np.full((height + 2) * (width + 2), -1, dtype=np.int64)
-    x, y = texels.index % width + 1, texels.index // width + 1
-    grid[y[seen] * (width + 2) + x[seen]] = np.flatnonzero(seen)
+    seen_texel = np.full(texels.width * texels.height, -1, dtype=np.int64)
+    seen_texel[texels.index[seen]] = np.flatnonzero(seen)
     candidate = np.flatnonzero(buried_texel & computed)
     neighbour = np.full(len(candidate), -1, dtype=np.int64)
-    for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, 1), (1, -1), (-1, -1)):
-        other = grid[(y[candidate] + dy) * (width + 2) + x[candidate] + dx]
+    for other in neighbour_values(seen_texel, texels.index[candidate], texels.width, texels.height, -1):
         take = (neighbour < 0) & (other >= 0)
         take[take] = chart_of_texel[other[take]] == chart_of_texel[candidate[take]]
         neighbour[take] = other[take]

@@ -10,76 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import SeamlessAOError
-from .graph import connected_components, group_starts
-
-
-def cross2d(a, b):
-    """z component of the cross product of 2D vectors: ``a``, ``b`` (..., 2) -> (...,)."""
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-
-
-def corner_min(shape):
-    """Smallest of each shape's corners: ``shape`` (k, c, ...) -> (k, ...) (c = 2 or 3).
-
-    The same as ``shape.min(axis=1)``, several times faster for so few corners.
-    """
-    low = np.minimum(shape[:, 0], shape[:, 1])
-    return np.minimum(low, shape[:, 2]) if shape.shape[1] > 2 else low
-
-
-def corner_max(shape):
-    """Largest of each shape's corners: ``shape`` (k, c, ...) -> (k, ...) (c = 2 or 3)."""
-    high = np.maximum(shape[:, 0], shape[:, 1])
-    return np.maximum(high, shape[:, 2]) if shape.shape[1] > 2 else high
-
-
-def scatter_rows(ufunc, out, index, values):
-    """``ufunc.at(out, index, values)`` for rows: ``out`` (n, c), ``index`` (k,), ``values`` (k, c).
-
-    One column at a time: numpy's ``at`` over rows takes a slow path, three
-    times slower than over a column.  The same result to the bit (each column
-    is still reduced in index order).  Returns ``out``.
-    """
-    for c in range(out.shape[1]):
-        ufunc.at(out[:, c], index, values[:, c])
-    return out
-
-
-def group_boxes(triangle, group, count):
-    """Bounding box of each group of 2D triangles: ``low, high`` (count, 2) float64.
-
-    ``triangle`` (k, 3, 2), ``group`` (k,) int in ``[0, count)``; an empty group
-    gets ``low = inf, high = -inf``.
-    """
-    low = scatter_rows(np.minimum, np.full((count, 2), np.inf), group, corner_min(triangle))
-    high = scatter_rows(np.maximum, np.full((count, 2), -np.inf), group, corner_max(triangle))
-    return low, high
-
-
-def band_x_extent(triangle, band_low, band_high):
-    """x-extent of each 2D triangle (r, 3, 2) clipped to a horizontal band [band_low, band_high] (r,).
-
-    The clipped polygon's corners are the triangle's corners inside the band and
-    the crossings of its edges with the band's two lines, so the extent over
-    those points is exact.  Returns ``(low, high)``, ``(inf, -inf)`` where the
-    band misses the triangle.  Both bounds must be finite.
-    """
-    low = np.full(len(triangle), np.inf)
-    high = np.full(len(triangle), -np.inf)
-    x, y = triangle[..., 0], triangle[..., 1]
-    for k in range(3):                                   # corners inside the band
-        inside = (y[:, k] >= band_low) & (y[:, k] <= band_high)
-        low = np.where(inside, np.minimum(low, x[:, k]), low)
-        high = np.where(inside, np.maximum(high, x[:, k]), high)
-    for k in range(3):                                   # edges crossing the band's borders
-        px, py, qx, qy = x[:, k], y[:, k], x[:, (k + 1) % 3], y[:, (k + 1) % 3]
-        dy = qy - py
-        for line in (band_low, band_high):
-            crosses = (np.minimum(py, qy) <= line) & (line <= np.maximum(py, qy)) & (dy != 0)
-            at = px + (line - py) * (qx - px) / np.where(dy != 0, dy, 1.0)
-            low = np.where(crosses, np.minimum(low, at), low)
-            high = np.where(crosses, np.maximum(high, at), high)
-    return low, high
+from .graph import connected_components, group_starts, scatter_rows
 
 
 #: Triangles with less area than this times the squared mesh size are degenerate.

@@ -9,8 +9,9 @@ never O(n²).
 
 import numpy as np
 
-from .graph import index_in_runs, pairs_within_groups, sort_order
-from .mesh import corner_max, corner_min, cross2d
+from .geometry2d import (barycentric_2d, corner_max, corner_min, line_crossing, segment_distance, separated,
+                         triangle_angles)
+from .graph import index_in_runs, pairs_within_groups, sort_order, unique_pairs
 
 
 def candidate_pairs(uv, group, margin=0.0, query=None):
@@ -73,56 +74,7 @@ def candidate_pairs(uv, group, margin=0.0, query=None):
         return np.zeros((0, 2), dtype=np.int64)
     if query is not None:
         pairs = pairs[query[pairs[:, 0]] | query[pairs[:, 1]]]
-    pairs = np.sort(pairs, axis=1)
-    keys = np.unique(pairs[:, 0] * np.int64(len(uv)) + pairs[:, 1])
-    return np.stack([keys // len(uv), keys % len(uv)], axis=1)
-
-
-def separated(uv_a, uv_b, margin):
-    """Separating-axis test for 2D triangles, with a margin.
-
-    Parameters
-    ----------
-    uv_a, uv_b : (k, 3, 2) float64
-    margin : float or (k,) float
-        The triangles count as touching unless some axis separates them by
-        more than ``margin``; a negative margin demands that much penetration.
-
-    Returns
-    -------
-    (k,) bool: True where an axis (x, y or an edge normal) separates them.
-    """
-    margin = np.broadcast_to(np.asarray(margin, dtype=np.float64), (len(uv_a),))
-    normals = []
-    for tri in (uv_a, uv_b):
-        edge = np.roll(tri, -1, axis=1) - tri
-        normal = np.stack([-edge[..., 1], edge[..., 0]], axis=-1)
-        length = np.linalg.norm(normal, axis=-1, keepdims=True)
-        normals.append(np.divide(normal, length, out=np.zeros_like(normal), where=length > 0))
-    unit = np.broadcast_to(np.eye(2), (len(uv_a), 2, 2))
-    axes = np.concatenate([unit] + normals, axis=1)                       # (k, 8, 2)
-    ax, ay = axes[..., 0], axes[..., 1]
-
-    def interval(tri):
-        p0, p1, p2 = (tri[:, c, 0, None] * ax + tri[:, c, 1, None] * ay for c in range(3))
-        return np.minimum(np.minimum(p0, p1), p2), np.maximum(np.maximum(p0, p1), p2)
-
-    low_a, high_a = interval(uv_a)
-    low_b, high_b = interval(uv_b)
-    gap = np.maximum(low_b - high_a, low_a - high_b)
-    live = (ax != 0) | (ay != 0)
-    return (live & (gap > margin[:, None])).any(axis=1)
-
-
-def _barycentric(points, tri):
-    """2D barycentric coordinates (k, 3) of ``points`` (k, 2) in ``tri`` (k, 3, 2)."""
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    v0, v1, v2 = b - a, c - a, points - a
-    den = cross2d(v0, v1)
-    den = np.where(np.abs(den) > 0, den, np.inf)
-    w1 = cross2d(v2, v1) / den
-    w2 = cross2d(v0, v2) / den
-    return np.stack([1.0 - w1 - w2, w1, w2], axis=1)
+    return unique_pairs(pairs)
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
@@ -148,7 +100,7 @@ def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
     eps = 1e-9
     for uv_p, depth_p, uv_q, depth_q in ((uv_a, depth_a, uv_b, depth_b), (uv_b, depth_b, uv_a, depth_a)):
         for corner in range(3):
-            bary = _barycentric(uv_p[:, corner], uv_q)
+            bary = barycentric_2d(uv_p[:, corner], uv_q)
             inside = (bary > eps).all(axis=1)
             diff = np.abs(depth_p[:, corner] - (bary * depth_q).sum(axis=1))
             gap = np.where(inside, np.maximum(gap, diff), gap)
@@ -159,7 +111,7 @@ def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
         for j in range(3):
             q0, q1 = uv_b[:, j], uv_b[:, (j + 1) % 3]
             dq0, dq1 = depth_b[:, j], depth_b[:, (j + 1) % 3]
-            t, u, meet = _line_crossing(q0 - p0, d1, q1 - q0)
+            t, u, meet = line_crossing(q0 - p0, d1, q1 - q0)
             cross = meet & (t > eps) & (t < 1 - eps) & (u > eps) & (u < 1 - eps)
             diff = np.abs(dp0 + t * (dp1 - dp0) - (dq0 + u * (dq1 - dq0)))
             gap = np.where(cross, np.maximum(gap, diff), gap)
@@ -212,72 +164,6 @@ def overlapping_triangles(uv, depth, group, welded_triangles, triangle_face, dep
     return pairs[gap > depth_tolerance]
 
 
-def _line_crossing(r, d1, d2):
-    """Where the lines ``p0 + t d1`` and ``q0 + u d2`` meet, with ``r = q0 - p0`` (all (k, 2)).
-
-    Returns ``t``, ``u`` (k,) and whether the lines meet at one point (not parallel).
-    """
-    den = cross2d(d1, d2)
-    meet = np.abs(den) > 0
-    safe = np.where(meet, den, np.inf)
-    return cross2d(r, d2) / safe, cross2d(r, d1) / safe, meet
-
-
-def segment_distance(p0, p1, q0, q1):
-    """Closest points of 2D segments ``p0-p1`` and ``q0-q1``.
-
-    Parameters
-    ----------
-    p0, p1, q0, q1 : (k, 2) float64
-
-    Returns
-    -------
-    distance : (k,) float64
-    s, t : (k,) float64
-        Parameters of the closest points on each segment, in [0, 1].
-    """
-    d1, d2, r = p1 - p0, q1 - q0, q0 - p0
-    # per component: numpy's sums over a trailing axis of 2 are slow, and x + y is the same sum
-    options = []
-    for point, start, direction, on_first in ((q0, p0, d1, True), (q1, p0, d1, True),
-                                              (p0, q0, d2, False), (p1, q0, d2, False)):
-        dx, dy = direction[:, 0], direction[:, 1]
-        length2 = dx * dx + dy * dy
-        along = (point[:, 0] - start[:, 0]) * dx + (point[:, 1] - start[:, 1]) * dy
-        param = np.clip(np.divide(along, length2, out=np.zeros(len(length2)), where=length2 > 0), 0.0, 1.0)
-        gap_x = start[:, 0] + param * dx - point[:, 0]
-        gap_y = start[:, 1] + param * dy - point[:, 1]
-        options.append((np.sqrt(gap_x * gap_x + gap_y * gap_y), param, on_first))
-    distance = np.full(len(p0), np.inf)
-    s = np.zeros(len(p0))
-    t = np.zeros(len(p0))
-    for k, (gap, param, on_first) in enumerate(options):
-        better = gap < distance
-        distance = np.where(better, gap, distance)
-        fixed = float(k % 2)                     # the endpoint used: 0 for p0/q0, 1 for p1/q1
-        s = np.where(better, param if on_first else fixed, s)
-        t = np.where(better, fixed if on_first else param, t)
-    cs, ct, meet = _line_crossing(r, d1, d2)
-    cross = meet & (cs >= 0) & (cs <= 1) & (ct >= 0) & (ct <= 1)
-    # the lines' crossing, measured rather than assumed: for (nearly) collinear
-    # segments the parameters are 0 / tiny and the "crossing" may be far apart
-    apart_x = p0[:, 0] + cs * d1[:, 0] - (q0[:, 0] + ct * d2[:, 0])
-    apart_y = p0[:, 1] + cs * d1[:, 1] - (q0[:, 1] + ct * d2[:, 1])
-    apart = np.sqrt(apart_x * apart_x + apart_y * apart_y)
-    cross &= apart < distance
-    distance = np.where(cross, apart, distance)
-    s = np.where(cross, cs, s)
-    t = np.where(cross, ct, t)
-    return distance, s, t
-
-
-def _triangle_angles(corners):
-    """Interior angle at each corner of 2D triangles: ``corners`` (k, 3, 2) -> (k, 3)."""
-    e1 = corners[:, [1, 2, 0]] - corners
-    e2 = corners[:, [2, 0, 1]] - corners
-    return np.abs(np.arctan2(cross2d(e1, e2), e1[..., 0] * e2[..., 0] + e1[..., 1] * e2[..., 1]))
-
-
 def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
     """Fans of chart triangles around one vertex whose angles add up to more than a full turn.
 
@@ -289,7 +175,7 @@ def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
     vertex = welded_triangles[live]                                          # (k, 3)
     keep = np.ones(vertex.shape, dtype=bool) if fan_vertices is None else fan_vertices[vertex]
     touched = keep.any(axis=1)                  # angles only of triangles with a corner looked at
-    angle = _triangle_angles(uv[live[touched]])[keep[touched]]
+    angle = triangle_angles(uv[live[touched]])[keep[touched]]
     triangle, vertex = np.repeat(live, 3)[keep.ravel()], vertex[keep]
     if not len(vertex):
         return
@@ -465,8 +351,4 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
                 if overlap_depth_gap(uv[one], depth[one], uv[two], depth[two])[0] > tolerance:
                     found.append(np.array([[members[i], members[j]]], dtype=np.int64))
 
-    pairs = np.sort(np.concatenate(found), axis=1)
-    if not len(pairs):
-        return pairs
-    keys = np.unique(pairs[:, 0] * np.int64(len(uv)) + pairs[:, 1])
-    return np.stack([keys // len(uv), keys % len(uv)], axis=1)
+    return unique_pairs(np.concatenate(found))

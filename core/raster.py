@@ -24,8 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .geometry2d import band_x_extent, closest_barycentric, corner_max, corner_min, point_keys, triangle_score
 from .graph import index_in_runs, sort_order
-from .mesh import band_x_extent, corner_max, corner_min, cross2d
+from .grid import neighbour_texels, neighbour_values
 
 COVERED, NEAR, PADDING = 0, 1, 2
 #: Points on a triangle's rim move this far (times the object size) into it: twice
@@ -257,20 +258,6 @@ def _rows(y0, y1):
     return np.repeat(np.arange(len(y0)), rows), np.repeat(y0, rows) + index_in_runs(rows)
 
 
-def point_keys(points):
-    """Dense integer key of each 2D point (k, 2) float64: equal keys for equal coordinates."""
-    if not len(points):
-        return np.zeros(0, dtype=np.int64)
-    points = points + 0.0                         # -0.0 and 0.0 are one point
-    order = np.lexsort((points[:, 1], points[:, 0]))
-    ordered = points[order]
-    new = np.ones(len(order), dtype=bool)
-    new[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
-    keys = np.empty(len(order), dtype=np.int64)
-    keys[order] = np.cumsum(new) - 1
-    return keys
-
-
 def _best_per_texel(texel, score, owner):
     """For each distinct texel, the entry with the highest score (ties: first)."""
     order = np.lexsort((-score, texel))
@@ -298,64 +285,27 @@ def _expand_spans(row_y, x_start, x_end, owner, width):
         start = stop
 
 
-def triangle_score(triangle, point):
-    """How well a texel centre belongs to a triangle, in texels.
-
-    Parameters
-    ----------
-    triangle : (k, 3, 2) float64, texel coordinates
-    point : (k, 2) float64
-
-    Returns
-    -------
-    (k,) float64: signed distance from the triangle's boundary (positive
-    inside); ``-inf`` where a one-texel square around the point misses the
-    triangle (bilinear filtering inside the triangle never reads this texel).
-    """
-    a, b, c = triangle[:, 0], triangle[:, 1], triangle[:, 2]
-    area2 = cross2d(b - a, c - a)
-    orientation = np.where(area2 < 0, -1.0, 1.0)
-    distances = []
-    for p, q in ((b, c), (c, a), (a, b)):              # edge opposite a, b, c
-        edge = q - p
-        length = np.linalg.norm(edge, axis=1)
-        signed = orientation * cross2d(edge, point - p) / np.where(length > 0, length, np.inf)
-        support = np.divide(np.abs(edge).sum(axis=1), length, out=np.full(len(length), np.inf), where=length > 0)
-        distances.append((signed, support))
-    inside = np.min([d for d, _ in distances], axis=0)
-    reach = np.all([d >= -s - 1e-9 for d, s in distances], axis=0)
-    low, high = corner_min(triangle), corner_max(triangle)
-    box = np.all((point >= low - 1.0 - 1e-9) & (point <= high + 1.0 + 1e-9), axis=1)
-    return np.where(reach & box, inside, -np.inf)
-
-
-_NEIGHBOURS = ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, 1), (1, -1), (-1, -1))
-
-
 def _grow_padding(member_map, kind_map, width, height, rings):
     """Grow assigned texels outward by ``rings`` rings (8-neighbourhood), in place.
 
     Returns the ring number of every image texel (int8, 0 for those assigned before).
     """
     ring_map = np.zeros(width * height, dtype=np.int8)
-    assigned = (member_map >= 0).reshape(height, width)
-    inner = assigned.copy()                       # assigned with all 8 neighbours assigned
-    padded = np.pad(assigned, 1, constant_values=False)
-    for dx, dy in _NEIGHBOURS:
-        inner &= padded[1 + dy:1 + dy + height, 1 + dx:1 + dx + width]
-    frontier = np.flatnonzero(assigned & ~inner)
+    assigned = member_map >= 0
+    frontier = np.flatnonzero(assigned)
+    inner = np.ones(len(frontier), dtype=bool)    # assigned with all 8 neighbours assigned
+    for other in neighbour_values(assigned, frontier, width, height, False):
+        inner &= other
+    frontier = frontier[~inner]
     for ring in range(1, rings + 1):
         if not len(frontier):
             break
-        x, y = frontier % width, frontier // width
         targets, sources, ranks = [], [], []
-        for rank, (dx, dy) in enumerate(_NEIGHBOURS):
-            nx, ny = x + dx, y + dy
-            ok = (nx >= 0) & (nx < width) & (ny >= 0) & (ny < height)
-            target = ny[ok] * width + nx[ok]
+        for rank, (target, inside) in enumerate(neighbour_texels(frontier, width, height)):
+            target = target[inside]
             empty = member_map[target] < 0
             targets.append(target[empty])
-            sources.append(frontier[ok][empty])
+            sources.append(frontier[inside][empty])
             ranks.append(np.full(int(empty.sum()), rank))
         target, source, rank = np.concatenate(targets), np.concatenate(sources), np.concatenate(ranks)
         order = sort_order(target, rank, source)
@@ -432,54 +382,3 @@ def _inset_rim_points(points, rim, centres, inset):
     return points
 
 
-def closest_barycentric(triangle, x, y):
-    """Barycentric coordinates of the point of each 2D triangle closest to (x, y).
-
-    Parameters
-    ----------
-    triangle : (k, 3, 2) float64
-    x, y : (k,) float64
-
-    Returns
-    -------
-    b0, b1, b2 : (k,) float64, each in [0, 1], summing to 1 (Ericson's region
-    tests; inside points keep their own coordinates).
-    """
-    a, b, c = triangle[:, 0], triangle[:, 1], triangle[:, 2]
-    p = np.stack([x, y], axis=1)
-    ab, ac, ap = b - a, c - a, p - a
-    d1, d2 = (ab * ap).sum(1), (ac * ap).sum(1)
-    bp = p - b
-    d3, d4 = (ab * bp).sum(1), (ac * bp).sum(1)
-    cp = p - c
-    d5, d6 = (ab * cp).sum(1), (ac * cp).sum(1)
-    va = d3 * d6 - d5 * d4
-    vb = d5 * d2 - d1 * d6
-    vc = d1 * d4 - d3 * d2
-    k = len(x)
-    out = np.zeros((k, 3))
-    done = np.zeros(k, dtype=bool)
-
-    def take(mask, weights):
-        nonlocal done
-        mask = mask & ~done
-        out[mask] = np.stack([w[mask] if np.ndim(w) else np.full(mask.sum(), w) for w in weights], axis=1)
-        done |= mask
-
-    safe = lambda num, den: np.divide(num, den, out=np.zeros(k), where=den != 0)  # noqa: E731
-    take((d1 <= 0) & (d2 <= 0), (1.0, 0.0, 0.0))                                   # corner a
-    take((d3 >= 0) & (d4 <= d3), (0.0, 1.0, 0.0))                                  # corner b
-    v = safe(d1, d1 - d3)
-    take((vc <= 0) & (d1 >= 0) & (d3 <= 0), (1.0 - v, v, 0.0))                     # edge ab
-    take((d6 >= 0) & (d5 <= d6), (0.0, 0.0, 1.0))                                  # corner c
-    w = safe(d2, d2 - d6)
-    take((vb <= 0) & (d2 >= 0) & (d6 <= 0), (1.0 - w, 0.0, w))                     # edge ac
-    w = safe(d4 - d3, (d4 - d3) + (d5 - d6))
-    take((va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0), (0.0, 1.0 - w, w))       # edge bc
-    total = va + vb + vc
-    v, w = safe(vb, total), safe(vc, total)
-    inside_weights = (1.0 - v - w, v, w)
-    take(np.ones(k, dtype=bool), inside_weights)                                   # inside
-    degenerate = np.abs(cross2d(ab, ac)) <= 0
-    out[degenerate] = 1.0 / 3.0
-    return out[:, 0], out[:, 1], out[:, 2]

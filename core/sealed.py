@@ -17,8 +17,9 @@ import numpy as np
 
 from .graph import connected_components
 
-#: A piece is sealed when its area-weighted normals sum to less than this fraction of its area
-#: (0 closed; a hemisphere 1/2; Suzanne's eyes, open at the back, 0.64; a wavy drape 0.83; a flat sheet 1).
+#: A piece is sealed when its area-weighted normals sum to less than this fraction of its area (a closed
+#: surface 0, a hemisphere one half, a flat sheet 1; tests/bench/bench_buried.py prints the openings of real
+#: pieces: Suzanne's eyes, open at the back, and a wavy drape).
 MAX_OPENING = 0.75
 
 

@@ -10,18 +10,8 @@ puts back.
 
 import bpy
 
+from ..core.keys import AO_LAYERS, AXES, BLEND, CREATED_KEY, FRAME, NODES_KEY, NODE_PREFIX, PREVIEW, SURFACE_KEY
 from .node_group import node_group
-
-PREFIX = "SeamlessAO "
-FRAME = PREFIX + "Frame"
-BLEND = PREFIX + "Blend"
-PREVIEW = PREFIX + "Preview"
-AXES = ("X", "Y", "Z")
-UV_NAMES = tuple("AO_" + axis for axis in AXES)
-#: Material custom properties.
-SURFACE_KEY = "seamless_ao_surface"          # "node|socket identifier" feeding the output before preview
-CREATED_KEY = "seamless_ao_created"          # the add-on made this material (object had none)
-NODES_KEY = "seamless_ao_enabled_nodes"      # the add-on switched use_nodes on
 
 
 def uses_nodes(material):
@@ -40,19 +30,19 @@ def enable_nodes(material):
 
 
 def image_node_name(axis):
-    return PREFIX + "Image " + axis
+    return NODE_PREFIX + "Image " + axis
 
 
 def uv_node_name(axis):
-    return PREFIX + "UV " + axis
+    return NODE_PREFIX + "UV " + axis
 
 
 def multiply_node_name(principled):
-    return PREFIX + "Multiply " + principled.name
+    return NODE_PREFIX + "Multiply " + principled.name
 
 
 def is_ours(node):
-    return node.name.startswith(PREFIX)
+    return node.name.startswith(NODE_PREFIX)
 
 
 def blend_inputs(material):
@@ -95,10 +85,10 @@ def hook_material(material, image, multiply=True):
     group_node.node_tree = node_group()
     group_node.parent = frame
     group_node.location = (left + 450.0, top)
-    for row, axis in enumerate(AXES):
+    for row, (axis, layer) in enumerate(zip(AXES, AO_LAYERS)):
         uv = nodes.get(uv_node_name(axis)) or nodes.new("ShaderNodeUVMap")
-        uv.name, uv.label = uv_node_name(axis), "AO_" + axis
-        uv.uv_map = "AO_" + axis
+        uv.name, uv.label = uv_node_name(axis), layer
+        uv.uv_map = layer
         uv.parent = frame
         uv.location = (left, top - 200.0 * row)
         texture = nodes.get(image_node_name(axis)) or nodes.new("ShaderNodeTexImage")
@@ -208,8 +198,8 @@ def unhook_material(material):
         return
     tree = material.node_tree
     set_preview(material, False)
-    for mix in [n for n in tree.nodes if n.name.startswith(PREFIX + "Multiply ")]:
-        principled = tree.nodes.get(mix.name[len(PREFIX + "Multiply "):])
+    for mix in [n for n in tree.nodes if n.name.startswith(NODE_PREFIX + "Multiply ")]:
+        principled = tree.nodes.get(mix.name[len(NODE_PREFIX + "Multiply "):])
         _remove_multiply(tree, mix, principled)
     for node in [n for n in tree.nodes if is_ours(n)]:
         tree.nodes.remove(node)

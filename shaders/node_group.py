@@ -20,9 +20,7 @@ group is rebuilt in place, so materials that use it keep working.
 
 import bpy
 
-GROUP_NAME = "Seamless AO"
-GROUP_VERSION = 1
-VERSION_KEY = "seamless_ao_version"
+from ..core.keys import GROUP_NAME, GROUP_VERSION, VERSION_KEY
 
 
 def find_node_group():

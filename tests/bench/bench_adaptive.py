@@ -1,4 +1,4 @@
-"""Benchmark: what adaptive sampling saves, and what it costs in error (README "What is adaptive").
+"""Benchmark: What adaptive sampling saves, and what it costs in error.
 
     .venv/5.0/bin/python tests/bench/bench_adaptive.py [--image-size 512] [--rays 64]
 
@@ -10,7 +10,7 @@ cast, seconds of one run, RMSE and 99th percentile of the absolute error.
 
 import argparse
 
-from common import markdown_table, suzanne_with_reference
+from common import finish, markdown_table, say, suzanne_with_reference
 
 import bpy
 
@@ -32,11 +32,11 @@ def main():
         rows.append(["on" if adaptive else "off", "{:,.0f}".format(report.rays), "{:.2f}".format(report.seconds),
                      "{:.4f}".format(rmse), "{:.4f}".format(p99)])
     saved = 1.0 - float(rows[1][1].replace(",", "")) / float(rows[0][1].replace(",", ""))
-    print(markdown_table(["adaptive", "rays cast", "seconds", "RMSE", "p99"], rows))
-    print("adaptive sampling casts {:.0%} fewer rays ({}², {} rays, Suzanne subdivided twice)".format(
+    say(markdown_table(["adaptive", "rays cast", "seconds", "RMSE", "p99"], rows))
+    say("adaptive sampling casts {:.0%} fewer rays ({}², {} rays, Suzanne subdivided twice)".format(
         saved, args.image_size, args.rays))
 
 
 if __name__ == "__main__":
     main()
-    package.hard_exit(0)
+    finish(__file__, __doc__)

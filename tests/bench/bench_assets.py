@@ -1,4 +1,4 @@
-"""Benchmark: the generated real assets baked by Seamless AO and by Cycles, against the plain reference.
+"""Benchmark: The generated real assets, both bakers.
 
     .venv/5.0/bin/python tests/bench/bench_assets.py [--assets interior noisy_scan ...]
 
@@ -17,7 +17,7 @@ medians) is report.py's.
 import argparse
 import sys
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import bpy
 import numpy as np
@@ -28,7 +28,7 @@ from blender_checks import uv_layer_array  # noqa: E402
 from blender_scenes import add_object, mesh_from_arrays  # noqa: E402
 from cycles_baseline import UV_NAME, cycles_ao_bake  # noqa: E402
 from plain_reference import reference_at_visible_points  # noqa: E402
-from seamless_ao.operators.mesh_data import read_triangles  # noqa: E402
+from seamless_ao.operators.adapters.mesh_data import read_triangles  # noqa: E402
 
 PACKAGE = sys.modules["seamless_ao"]
 SIZES = (512, 1024)
@@ -85,9 +85,10 @@ def main():
     for name, smooth in cases:
         rows += run_case(name, smooth)
         print(markdown_table(HEADERS, rows[-2 * len(SIZES):]), flush=True)
-    print()
-    print(markdown_table(HEADERS, rows))
+    say()
+    say(markdown_table(HEADERS, rows))
 
 
 if __name__ == "__main__":
     main()
+    finish(__file__, __doc__)

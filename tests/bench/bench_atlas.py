@@ -1,4 +1,4 @@
-"""Benchmark: the fixed cost before the first ray (charts + pack + rasterise), per mesh and image size.
+"""Benchmark: Fixed cost before the first ray, per mesh and image size.
 
     .venv/5.0/bin/python tests/bench/bench_atlas.py [--sizes 256 512 1024] [--spheres 250000 1000000]
 
@@ -13,7 +13,7 @@ targets are met: charts + pack + rasterise <= 1.0 s at 250k triangles and
 import argparse
 import time
 
-from common import Stopwatch, markdown_table
+from common import finish, markdown_table, say, Stopwatch
 
 import real_assets  # noqa: E402
 from bench_clustering import bumpy_sphere  # noqa: E402
@@ -69,10 +69,10 @@ def main():
                          f"{layout.charts.count:,}", f"{layout.atlas.utilisation:.2f}", f"{layout.atlas.density:.3g}",
                          "{} ({:.2f} s)".format(runs[0], runs[1]), len(layout.atlas.warnings)])
             print(markdown_table(HEADERS, rows[-1:]), flush=True)
-    print()
-    print(markdown_table(HEADERS, rows))
+    say()
+    say(markdown_table(HEADERS, rows))
     # issue 13's fixed-cost targets: charts + pack + rasterise at 250k and 1M triangles (1024²)
-    print()
+    say()
     for row in rows:
         triangles = int(row[1].replace(",", ""))
         target = TARGETS.get(min(TARGETS, key=lambda n: abs(n - triangles))) if row[0] == "bumpy sphere" else None
@@ -80,9 +80,10 @@ def main():
             total = float(row[7])
             verdict = "met" if total <= target else "missed by {:.1f}x".format(total / target)
             stages = ", ".join("{} {}".format(stage, value) for stage, value in zip(STAGES, row[3:7]))
-            print("target: charts + pack + rasterise at {} triangles <= {:.1f} s: {:.2f} s, {} ({} s; xatlas runs "
+            say("target: charts + pack + rasterise at {} triangles <= {:.1f} s: {:.2f} s, {} ({} s; xatlas runs "
                   "within pack: {})".format(row[1], target, total, verdict, stages, row[12]))
 
 
 if __name__ == "__main__":
     main()
+    finish(__file__, __doc__)

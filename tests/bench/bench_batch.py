@@ -1,4 +1,4 @@
-"""Benchmark: a folder of assets through ``batch``, one worker at a time against several (issue 17).
+"""Benchmark: a folder of assets, one worker against two.
 
     .venv/5.0/bin/python tests/bench/bench_batch.py [--assets 8] [--runs 3] [--jobs 1 2]
 
@@ -8,15 +8,17 @@ triangles each, with a UV map), then bakes the folder at 512², 32 rays with
 ``--runs`` batches (the first batch of the script is an untimed warm-up),
 seconds per asset, and the speed-up over the first row.  Every run starts
 fresh worker processes, so the cost of starting Blender in each is included.
+Last, the first record of the last run's ``--report`` file, as written.
 """
 
 import argparse
+import json
 import pathlib
 import statistics
 import tempfile
 import time
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import addon_utils
 import bpy
@@ -43,7 +45,7 @@ def make_assets(folder, count):
 def timed_batch(folder, out, jobs):
     start = time.perf_counter()
     records = package.seamless_ao.batch([str(folder)], output_dir=str(out), jobs=jobs, force=True,
-                                        progress=lambda line: None, **SETTINGS)
+                                        progress=lambda line: None, report=str(out / "report.json"), **SETTINGS)
     seconds = time.perf_counter() - start
     failed = [r for r in records if r.status != "baked"]
     assert not failed, failed
@@ -67,12 +69,17 @@ def main():
             first = first or seconds
             rows.append((jobs, "{:.1f}".format(seconds), "{:.2f}".format(seconds / args.assets),
                          "{:.2f}".format(first / seconds)))
-    print("{} GLB assets (subdivided Suzanne on a floor, {} rays, {}² bake, {}² occlusion texture), "
+        report = json.loads((out / "report.json").read_text())
+    say("{} GLB assets (subdivided Suzanne on a floor, {} rays, {}² bake, {}² occlusion texture), "
           "median of {} runs".format(args.assets, SETTINGS["rays"], SETTINGS["image_size"],
                                     SETTINGS["texture_size"], args.runs))
-    print(markdown_table(["jobs", "wall s", "s per asset", "speed-up"], rows))
+    say(markdown_table(["jobs", "wall s", "s per asset", "speed-up"], rows))
+    say()
+    say("One record of the last run's `--report` file:")
+    say()
+    say("```json\n" + json.dumps(report["assets"][0], indent=1) + "\n```")
 
 
 if __name__ == "__main__":
     main()
-    package.hard_exit(0)
+    finish(__file__, __doc__)

@@ -1,4 +1,4 @@
-"""Benchmark: low-frequency error ("blotches") on a flat wall (issue 18, item 8).
+"""Benchmark: Low-frequency error (blotches) on a flat wall.
 
     .venv/5.0/bin/python tests/bench/bench_blotch.py [--size 512] [--grid 48]
 
@@ -14,7 +14,7 @@ noise is in both (about 0.008 raw at 4096 rays, a third of that blurred).
 
 import argparse
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import bpy
 import numpy as np
@@ -24,7 +24,7 @@ from accuracy import shown_seamless, shown_single_uv
 from blender_scenes import cornell_box
 from cycles_baseline import UV_NAME, cycles_ao_bake
 from plain_reference import locate, plain_ao
-from seamless_ao.operators.mesh_data import read_triangles
+from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 MAX_DISTANCE = 1.7
 
@@ -74,10 +74,10 @@ def main():
         shown = shown_single_uv(ob, image, UV_NAME, loops, triangle, bary)
         row("Cycles, {} samples".format(samples), shown, None)
         bpy.data.images.remove(image)
-    print(markdown_table(["bake ({}², back wall of the Cornell box)".format(args.size), "RMSE",
+    say(markdown_table(["bake ({}², back wall of the Cornell box)".format(args.size), "RMSE",
                           "RMSE after 3x3 blur", "mean error", "blur width (texels)"], rows))
 
 
 if __name__ == "__main__":
     main()
-    package.hard_exit(0)
+    finish(__file__, __doc__)

@@ -1,4 +1,4 @@
-"""Benchmark: what shading buried texels at the crease buys (README, "How it works" and issue 14).
+"""Benchmark: Texels buried inside another piece, shaded at the crease or not.
 
     .venv/5.0/bin/python tests/bench/bench_buried.py [--meshes suzanne dense interior cornell]
 
@@ -19,7 +19,7 @@ from unittest import mock
 import numpy as np
 
 import report
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import bpy
 
@@ -27,7 +27,7 @@ import meshes
 from accuracy import errors, reference_ao, shown_seamless, surface_samples
 from blender_scenes import add_object, mesh_from_arrays
 from seamless_ao.core import job
-from seamless_ao.operators.mesh_data import read_triangles
+from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 CACHE = pathlib.Path(__file__).resolve().parent.parent.parent / "out" / "bench" / "cache"
 
@@ -94,8 +94,9 @@ def main():
     (rmse, low, count), (plain_rmse, plain_low, _) = pierced_box()
     rows.append(["pierced box, {} points within a texel of the intersection".format(count), "256², 64 rays",
                  "{:.4f} / min {:+.3f}".format(plain_rmse, plain_low), "{:.4f} / min {:+.3f}".format(rmse, low)])
-    print(markdown_table(["mesh", "bake", "no texel buried: RMSE / p99", "buried texels shaded at the crease"], rows))
+    say(markdown_table(["mesh", "bake", "no texel buried: RMSE / p99", "buried texels shaded at the crease"], rows))
 
 
 if __name__ == "__main__":
     main()
+    finish(__file__, __doc__)

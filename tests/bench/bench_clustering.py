@@ -1,4 +1,4 @@
-"""Benchmark: adjacency + clustering on generated meshes of 10k, 100k and 1M triangles.
+"""Benchmark: Adjacency and clustering, 10k to 1M triangles.
 
     .venv/5.0/bin/python tests/bench/bench_clustering.py [--sizes 10000 100000 1000000]
 
@@ -10,7 +10,7 @@ import argparse
 
 import numpy as np
 
-from common import Stopwatch, markdown_table
+from common import finish, markdown_table, say, Stopwatch
 
 from seamless_ao.core.adjacency import face_adjacency
 from seamless_ao.core.clustering import cluster_faces
@@ -58,10 +58,11 @@ def main():
         print(markdown_table(
             ["triangles", "adjacency s", "clustering s", "total s", "triangles/s", "peak MB", "charts", "splits"],
             rows[-1:]), flush=True)
-    print()
-    print(markdown_table(
+    say()
+    say(markdown_table(
         ["triangles", "adjacency s", "clustering s", "total s", "triangles/s", "peak MB", "charts", "splits"], rows))
 
 
 if __name__ == "__main__":
     main()
+    finish(__file__, __doc__)

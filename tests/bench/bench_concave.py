@@ -1,4 +1,4 @@
-"""Benchmark: error along concave edges, Seamless AO and Smart UV + Cycles (issue 18, item 8).
+"""Benchmark: Error along the Cornell box's concave edges, both bakers.
 
     .venv/5.0/bin/python tests/bench/bench_concave.py
 
@@ -15,7 +15,7 @@ all these points.
 
 import numpy as np
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import bpy
 
@@ -24,7 +24,7 @@ from accuracy import shown_seamless, shown_single_uv
 from blender_scenes import cornell_box, cornell_concave_points
 from cycles_baseline import UV_NAME, cycles_ao_bake
 from plain_reference import locate, plain_ao
-from seamless_ao.operators.mesh_data import read_triangles
+from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 DISTANCES = [0.0003, 0.001, 0.003, 0.008, 0.02]
 MAX_DISTANCE = 1.5
@@ -60,11 +60,11 @@ def main():
                                           max_distance=MAX_DISTANCE)
         rows.append(row("Seamless AO", "{}², {} rays".format(size, rays),
                         shown_seamless(ob, bpy.data.images[report.image], loops, triangle, bary, normals)))
-    print("Cornell box, 4 concave edges x 2 faces x 8 points per distance; mean error (shown - reference) by "
+    say("Cornell box, 4 concave edges x 2 faces x 8 points per distance; mean error (shown - reference) by "
           "distance from the edge, and RMSE over all {} points".format(len(points)))
-    print(markdown_table(["method", "settings", *("{} units".format(d) for d in DISTANCES), "RMSE"], rows))
+    say(markdown_table(["method", "settings", *("{} units".format(d) for d in DISTANCES), "RMSE"], rows))
 
 
 if __name__ == "__main__":
     main()
-    package.hard_exit(0)
+    finish(__file__, __doc__)

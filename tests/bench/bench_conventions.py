@@ -1,4 +1,4 @@
-"""Benchmark: rays below the face, three conventions measured against each other (issue 18, item 2).
+"""Benchmark: Rays below the face: three conventions on a coarse smooth mesh.
 
     .venv/5.0/bin/python tests/bench/bench_conventions.py [--rays 4096] [--points 400]
 
@@ -21,7 +21,7 @@ Prints the RMSE between every pair, for the smooth and the flat-shaded mesh
 import argparse
 import sys
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import bpy
 import numpy as np
@@ -32,8 +32,8 @@ from cycles_baseline import UV_NAME, cycles_ao_bake  # noqa: E402
 from seamless_ao.core import ao as ao_module  # noqa: E402
 from seamless_ao.core.sampling import cone_directions, tangent_frames  # noqa: E402
 from seamless_ao.core.settings import BakeSettings  # noqa: E402
-from seamless_ao.operators.casters import ray_setup  # noqa: E402
-from seamless_ao.operators.mesh_data import read_triangles  # noqa: E402
+from seamless_ao.operators.adapters.casters import ray_setup  # noqa: E402
+from seamless_ao.operators.adapters.mesh_data import read_triangles  # noqa: E402
 
 PACKAGE = sys.modules["seamless_ao"]
 
@@ -99,9 +99,10 @@ def main():
                              "{:+.4f}".format(np.mean(difference))])
         print(markdown_table(["shading", "A", "B", "RMSE A-B", "mean A-B"], rows[-len(names) * (len(names) - 1) // 2:]),
               flush=True)
-    print()
-    print(markdown_table(["shading", "A", "B", "RMSE A-B", "mean A-B"], rows))
+    say()
+    say(markdown_table(["shading", "A", "B", "RMSE A-B", "mean A-B"], rows))
 
 
 if __name__ == "__main__":
     main()
+    finish(__file__, __doc__)

@@ -1,4 +1,4 @@
-"""Benchmark: which Smart UV Project island margin gives Cycles' AO bake its best chance.
+"""Benchmark: The Smart UV Project island margin that gives Cycles its best chance.
 
     .venv/5.0/bin/python tests/bench/bench_cycles_margin.py [--margins 1.536 2 4] [--size 512] [--samples 64]
 
@@ -12,7 +12,7 @@ shrinks every island.  report.py uses cycles_baseline.ISLAND_MARGIN_TEXELS.
 
 import argparse
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import bpy
 import numpy as np
@@ -21,7 +21,7 @@ import cycles_baseline  # noqa: E402
 import real_assets  # noqa: E402
 from accuracy import errors, reference_ao, shown_single_uv, surface_samples  # noqa: E402
 from blender_scenes import add_object, mesh_from_arrays, suzanne  # noqa: E402
-from seamless_ao.operators.mesh_data import read_triangles  # noqa: E402
+from seamless_ao.operators.adapters.mesh_data import read_triangles  # noqa: E402
 
 MESHES = {
     "suzanne": lambda: suzanne(2),
@@ -52,10 +52,11 @@ def main():
                          "{:.4f}".format(p99)])
             print(markdown_table(["mesh", "margin (texels)", "island_margin", "RMSE", "p99"], rows[-1:]), flush=True)
             bpy.data.images.remove(image)
-    print()
-    print("Cycles {}², {} samples".format(args.size, args.samples))
-    print(markdown_table(["mesh", "margin (texels)", "island_margin", "RMSE", "p99"], rows))
+    say()
+    say("Cycles {}², {} samples".format(args.size, args.samples))
+    say(markdown_table(["mesh", "margin (texels)", "island_margin", "RMSE", "p99"], rows))
 
 
 if __name__ == "__main__":
     main()
+    finish(__file__, __doc__)

@@ -1,4 +1,4 @@
-"""Benchmark: the memory budget's estimate against the measured peak (issue 16, item 3).
+"""Benchmark: The memory estimate against measured peaks.
 
     .venv/5.0/bin/python tests/bench/bench_memory.py [--cases suzanne interior ...]
 
@@ -15,7 +15,7 @@ import pathlib
 import subprocess
 import sys
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 CASES = {                     # name: (mesh, image size)
     "suzanne-512": ("suzanne", 512),
@@ -62,7 +62,7 @@ def measure(mesh_name, image_size):
     def noting(settings, triangles, pixels, texels):
         estimates.append(budget.estimated_bytes(triangles, texels, pixels) / 2**20)
         return original(settings, triangles, pixels, texels)
-    budget_check = sys.modules["seamless_ao.operators.session"]
+    budget_check = sys.modules["seamless_ao.operators.adapters.session"]
     budget_check.check_budget = noting
     before = resident_mb()
     peak_before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
@@ -94,11 +94,10 @@ def main():
                      "{:,.0f}".format(r["first_estimate"]), "{:,.0f}".format(r["layout_estimate"]),
                      "{:,.0f}".format(r["measured"]), "{:+.0%}".format(r["layout_estimate"] / r["measured"] - 1.0)])
         print(name, r, file=sys.stderr, flush=True)
-    print(markdown_table(["case", "faces", "texels", "estimate before layout MB", "estimate after layout MB",
+    say(markdown_table(["case", "faces", "texels", "estimate before layout MB", "estimate after layout MB",
                           "measured peak growth MB", "estimate vs measured"], rows))
 
 
 if __name__ == "__main__":
     main()
-    import package
-    package.hard_exit(0)
+    finish(__file__, __doc__)

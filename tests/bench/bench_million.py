@@ -1,4 +1,4 @@
-"""Benchmark: bake a 1M-triangle mesh (issue 7's largest hard case) and report time and peak memory.
+"""Benchmark: A 1M-triangle bake: time and peak memory.
 
     .venv/5.0/bin/python tests/bench/bench_million.py [--triangles 1000000] [--image-size 1024] [--rays 16]
 
@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from common import process_peak_mb
+from common import finish, process_peak_mb, say
 
 import bpy
 
@@ -46,7 +46,7 @@ def main():
     values = image_array(bpy.data.images[report.image])
     finite = np.isfinite(values).all() and all(np.isfinite(uv_layer_array(ob.data, n)).all()
                                                for n in ("AO_X", "AO_Y", "AO_Z"))
-    print("{:,} triangles, {}² image, {} rays: {:.1f} s ({}), peak memory {:.0f} MB, finite: {}, range {:.3f}..{:.3f}"
+    say("{:,} triangles, {}² image, {} rays: {:.1f} s ({}), peak memory {:.0f} MB, finite: {}, range {:.3f}..{:.3f}"
           .format(len(triangles), args.image_size, args.rays, seconds,
                   ", ".join("{} {:.1f} s".format(k, v) for k, v in report.timings.items()), process_peak_mb(),
                   finite, values.min(), values.max()))
@@ -54,4 +54,4 @@ def main():
 
 
 if __name__ == "__main__":
-    package.hard_exit(main())
+    finish(__file__, __doc__, main())

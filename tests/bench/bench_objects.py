@@ -1,4 +1,4 @@
-"""Benchmark: many objects baked together into one image (issues 15 and 17).
+"""Benchmark: Many objects baked together into one image.
 
     .venv/5.0/bin/python tests/bench/bench_objects.py [--objects 1000] [--runs 3] [--bake 400]
 
@@ -19,7 +19,7 @@ import argparse
 import statistics
 import time
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import bpy
 import numpy as np
@@ -81,16 +81,16 @@ def main():
         layout = build_layout(parts, image_size=1024)
         runs.append(dict(layout.timings, total=time.perf_counter() - start))
     stages = list(runs[0])
-    print("{} objects, {} triangles, 1024², median of {} runs (seconds)".format(
+    say("{} objects, {} triangles, 1024², median of {} runs (seconds)".format(
         len(parts), sum(len(p.triangles) for p in parts), args.runs))
-    print(markdown_table(stages, [["{:.3f}".format(statistics.median(r[s] for r in runs)) for s in stages]]))
+    say(markdown_table(stages, [["{:.3f}".format(statistics.median(r[s] for r in runs)) for s in stages]]))
     if args.bake:
-        print()
-        print("{} cubes as objects, baked together at 512², 16 rays (seconds)".format(args.bake))
-        print(markdown_table(["objects", "scene occluders", "bake s", "stages s", "rest s (read, casters, write)"],
+        say()
+        say("{} cubes as objects, baked together at 512², 16 rays (seconds)".format(args.bake))
+        say(markdown_table(["objects", "scene occluders", "bake s", "stages s", "rest s (read, casters, write)"],
                              bake_rows(args.bake)))
 
 
 if __name__ == "__main__":
     main()
-    package.hard_exit(0)
+    finish(__file__, __doc__)

@@ -1,4 +1,4 @@
-"""Benchmark: scene occluders take only what the rays can reach (issue 16, item 6).
+"""Benchmark: Scene occluders: only what the rays can reach.
 
     .venv/5.0/bin/python tests/bench/bench_occluders.py [--objects 200] [--runs 3]
 
@@ -14,7 +14,7 @@ import argparse
 import statistics
 import time
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import bpy
 
@@ -83,9 +83,9 @@ def main():
         mesh_data.boxes_near = original
     rows.append(["+ {} far spheres".format(args.objects), "off (every visible mesh)", "{:.2f}".format(seconds),
                  "{:,}".format(triangles)])
-    print(markdown_table(["scene", "distance filter", "seconds (median)", "occluder triangles"], rows))
+    say(markdown_table(["scene", "distance filter", "seconds (median)", "occluder triangles"], rows))
 
 
 if __name__ == "__main__":
     main()
-    package.hard_exit(0)
+    finish(__file__, __doc__)

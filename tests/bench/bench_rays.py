@@ -1,4 +1,4 @@
-"""Benchmark: rays per second of each ray-casting strategy, and a 1024² Suzanne bake at 64 rays.
+"""Benchmark: Ray casting: rays per second, and a whole 1024² bake.
 
     .venv/5.0/bin/python tests/bench/bench_rays.py
 
@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from common import markdown_table
+from common import finish, markdown_table, say
 
 import bpy
 
@@ -26,8 +26,8 @@ from blender_scenes import suzanne
 from seamless_ao.core.ao import AOParams, BVHCaster, occlusion_sums, ray_space
 from seamless_ao.core.pipeline import build_layout
 from seamless_ao.core.raster import texel_geometry
-from seamless_ao.operators.mesh_data import read_triangles
-from seamless_ao.operators.casters import NodesCaster
+from seamless_ao.operators.adapters.mesh_data import read_triangles
+from seamless_ao.operators.adapters.casters import NodesCaster
 
 
 def main():
@@ -66,9 +66,9 @@ def main():
     start = time.perf_counter()
     report = package.seamless_ao.bake([ob], image_size=1024, rays=64)
     seconds = time.perf_counter() - start
-    print(markdown_table(["strategy", "M rays/s (casting only)", "M rays/s (whole AO path)"], rows))
-    print()
-    print("1024² bake of subdivided Suzanne ({:,} triangles) at 64 rays: {:.1f} s ({}; {:,} texels, {:,.0f} rays "
+    say(markdown_table(["strategy", "M rays/s (casting only)", "M rays/s (whole AO path)"], rows))
+    say()
+    say("1024² bake of subdivided Suzanne ({:,} triangles) at 64 rays: {:.1f} s ({}; {:,} texels, {:,.0f} rays "
           "cast after adaptive stops)".format(len(mesh.triangles), seconds,
                                               ", ".join("{} {:.2f} s".format(k, v) for k, v in report.timings.items()),
                                               report.texels, report.rays))
@@ -76,4 +76,4 @@ def main():
 
 if __name__ == "__main__":
     main()
-    package.hard_exit(0)
+    finish(__file__, __doc__)

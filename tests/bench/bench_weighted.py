@@ -1,4 +1,4 @@
-"""Benchmark: rays in proportion to the blend weight a texel is shown with (``weighted_rays``), on and off.
+"""Benchmark: Rays in proportion to the blend weight, on and off.
 
     .venv/5.0/bin/python tests/bench/bench_weighted.py [--image-size 512] [--rays 8 16 32 64]
 
@@ -16,7 +16,7 @@ import statistics
 
 import numpy as np
 
-from common import markdown_table, suzanne_with_reference
+from common import finish, markdown_table, say, suzanne_with_reference
 
 import bpy
 
@@ -46,25 +46,25 @@ def main():
             rows.append([rays, "on" if weighted else "off", "{:,.0f}".format(report.rays),
                          "{:.2f}".format(statistics.median(seconds)), "{:.4f}".format(rmse), "{:.4f}".format(p99),
                          "{:.4f}".format(report.noise)])
-    print(markdown_table(["rays", "weighted", "rays cast", "seconds", "RMSE", "p99", "noise estimate"], rows))
+    say(markdown_table(["rays", "weighted", "rays cast", "seconds", "RMSE", "p99", "noise estimate"], rows))
     # unweighted RMSE as a function of log rays cast, for "what would the same error cost without weighting"
     plain = sorted((results[r, False] for r in args.rays), key=lambda item: item[0])
     cast, secs, err = (np.array(column, dtype=float) for column in zip(*plain))
-    print()
+    say()
     for rays in args.rays:
         weighted_cast, weighted_seconds, weighted_rmse = results[rays, True]
         if not err.min() <= weighted_rmse <= err.max():
-            print("{} rays, weighted: RMSE {:.4f} outside the unweighted range".format(rays, weighted_rmse))
+            say("{} rays, weighted: RMSE {:.4f} outside the unweighted range".format(rays, weighted_rmse))
             continue
         # err falls with rays: interpolate log(cast) and seconds at the weighted RMSE
         order = np.argsort(err)
         need_cast = float(np.exp(np.interp(weighted_rmse, err[order], np.log(cast[order]))))
         need_seconds = float(np.interp(weighted_rmse, err[order], secs[order]))
-        print("{} rays, weighted: RMSE {:.4f} with {:,.0f} rays in {:.2f} s; unweighted needs about {:,.0f} rays "
+        say("{} rays, weighted: RMSE {:.4f} with {:,.0f} rays in {:.2f} s; unweighted needs about {:,.0f} rays "
               "({:.0%} more) and {:.2f} s".format(rays, weighted_rmse, weighted_cast, weighted_seconds, need_cast,
                                                    need_cast / weighted_cast - 1.0, need_seconds))
 
 
 if __name__ == "__main__":
     main()
-    package.hard_exit(0)
+    finish(__file__, __doc__)

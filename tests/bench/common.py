@@ -1,6 +1,18 @@
-"""Helpers shared by the benchmark scripts: timing, peak memory, tables."""
+"""Helpers shared by the benchmark scripts: timing, peak memory, tables, and the page each writes.
 
+A benchmark prints its results with :func:`say` and ends with :func:`finish`,
+which writes what it said to ``docs/bench/<script>.md`` under a line naming
+the script, its arguments, the machine, Blender and the commit;
+``make bench`` then assembles those pages into ``docs/benchmarks.md``
+(``tests/bench/assemble.py``).  Every figure in docs/ comes from such a page.
+"""
+
+import datetime
+import os
+import pathlib
+import platform
 import resource
+import subprocess
 import sys
 import time
 import tracemalloc
@@ -13,7 +25,7 @@ import bpy  # noqa: E402
 from accuracy import reference_ao, surface_samples  # noqa: E402
 from blender_scenes import suzanne  # noqa: E402
 from seamless_ao.core.settings import BakeSettings  # noqa: E402
-from seamless_ao.operators.mesh_data import read_triangles  # noqa: E402
+from seamless_ao.operators.adapters.mesh_data import read_triangles  # noqa: E402
 
 
 class Stopwatch:
@@ -41,6 +53,62 @@ class Stopwatch:
 def process_peak_mb():
     """Peak resident memory of this process so far, MB (Linux ru_maxrss is KB)."""
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+#: Where each benchmark writes its page.
+PAGES = ROOT / "docs" / "bench"
+_said = []
+
+
+def say(text=""):
+    """Print ``text`` and keep it for the benchmark's page."""
+    print(text, flush=True)
+    _said.append(str(text))
+
+
+def machine():
+    """This machine and Blender, in one phrase."""
+    return "{} ({} cores), Blender {}".format(platform.processor() or platform.machine(), os.cpu_count(),
+                                             bpy.app.version_string)
+
+
+def commit():
+    """The commit the tree stands at (with ``+`` when files differ from it)."""
+    head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+    dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"],
+                           capture_output=True, text=True)
+    return (head.stdout.strip() or "unknown") + ("+" if dirty.stdout.strip() else "")
+
+
+def page_title(doc):
+    """A benchmark's title: the first line of its docstring, without "Benchmark: "."""
+    return doc.strip().splitlines()[0].replace("Benchmark: ", "").rstrip(".")
+
+
+def page_method(doc):
+    """What a benchmark does, from its docstring: the paragraphs after the title and the usage lines."""
+    paragraphs = [p for p in doc.strip().split("\n\n")[1:] if not all(
+        line.startswith("    ") for line in p.splitlines() if line.strip())]
+    return [" ".join(p.split()) for p in paragraphs]
+
+
+def finish(script, doc, status=0):
+    """Write what the benchmark said to ``docs/bench/<script>.md``, under its title, the line naming the
+    command, machine, Blender and commit, and its method (its docstring); then end the process (see
+    ``package.hard_exit``)."""
+    name = pathlib.Path(script).stem
+    command = " ".join(["tests/bench/{}.py".format(name)] + sys.argv[1:])
+    header = ["## {}".format(page_title(doc)), "",
+              "*Written by `{}` on {}, commit {}, {}.*".format(
+                  command, machine(), commit(), datetime.date.today().isoformat()), ""]
+    for paragraph in page_method(doc):
+        header += [paragraph, ""]
+    if status == 0 and _said:
+        PAGES.mkdir(parents=True, exist_ok=True)
+        (PAGES / (name + ".md")).write_text("\n".join(header + _said).rstrip() + "\n")
+        print("wrote", (PAGES / (name + ".md")).relative_to(ROOT))
+    package.hard_exit(status)
 
 
 def markdown_table(headers, rows):

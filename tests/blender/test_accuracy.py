@@ -9,15 +9,13 @@ import bpy
 import numpy as np
 import pytest
 
-from accuracy import errors, reference_ao, shown_seamless, surface_samples
+from accuracy import P99_LIMIT, RMSE_LIMIT, errors, reference_ao, shown_seamless, surface_samples
 from blender_scenes import sphere_over_plane, suzanne
 from package import seamless_ao
 from seamless_ao.core.blend import bilinear, blended_ao
-from seamless_ao.operators.mesh_data import read_triangles
+from seamless_ao.operators.adapters.mesh_data import read_triangles
 from blender_checks import image_array, uv_layer_array
 
-RMSE_LIMIT = 0.03
-P99_LIMIT = 0.12
 POINTS = 1500
 
 

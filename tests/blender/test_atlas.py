@@ -11,7 +11,7 @@ from seamless_ao.core.pipeline import build_layout
 @pytest.fixture(scope="module")
 def suzanne_layout():
     import bpy
-    from seamless_ao.operators.mesh_data import read_triangles
+    from seamless_ao.operators.adapters.mesh_data import read_triangles
     bpy.ops.wm.read_factory_settings(use_empty=True)
     mesh, _ = read_triangles(suzanne(2).data)
     return build_layout(mesh, image_size=512)

@@ -9,8 +9,8 @@ from blender_checks import image_array, material_snapshot, mesh_snapshot
 from blender_scenes import add_object, suzanne
 from package import seamless_ao
 from seamless_ao.core.errors import BakeCancelled, SeamlessAOError
-from seamless_ao.operators.poll import selection_problem
-from seamless_ao.operators.writes import Transaction
+from seamless_ao.operators.ui.poll import selection_problem
+from seamless_ao.operators.adapters.writes import Transaction
 from seamless_ao.shaders.material import enable_nodes
 
 FAST = dict(image_size=256, rays=8)
@@ -258,7 +258,7 @@ def test_deleting_the_object_during_the_bake_cancels_it_cleanly(monkey):
 def test_failed_bake_puts_back_an_older_node_group_it_rebuilt(monkey):
     """Issue 16, item 4: a bake that rebuilds an older ``Seamless AO`` group and then fails restores
     the old group, for every material using it."""
-    from seamless_ao.shaders.node_group import GROUP_NAME, VERSION_KEY
+    from seamless_ao.core.keys import GROUP_NAME, VERSION_KEY
     seamless_ao.bake([monkey], **FAST)
     group = bpy.data.node_groups[GROUP_NAME]
     group[VERSION_KEY] = 0

@@ -12,14 +12,14 @@ import numpy as np
 import pytest
 
 from batch_assets import make_asset_folder, other_formats
-from package import run_script, seamless_ao
+from package import run_command, run_script, seamless_ao
 
 FAST = ("--rays", "16", "--image-size", "256", "--texture-size", "256")
 BAKED = {"with_uv": "with_uv_ao.glb", "no_uv": "no_uv_ao.glb", "obj": "monkey_ao.glb", "blend": "room_ao.blend"}
 
 
 def run_batch(*args):
-    proc = run_script("cli.py", "batch", *args)
+    proc = run_command("batch", *args)
     return proc, [line for line in proc.stderr.splitlines() if line.startswith("seamless_ao: [")]
 
 

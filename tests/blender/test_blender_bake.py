@@ -6,9 +6,9 @@ import pytest
 
 from blender_checks import image_array, material_snapshot, mesh_snapshot, rendered_and_blended, shown_seamless
 from blender_scenes import suzanne
-from package import run_script, seamless_ao
-from seamless_ao.shaders.material import BLEND, PREFIX, enable_nodes
-from seamless_ao.shaders.node_group import GROUP_NAME
+from package import run_command, run_script, seamless_ao
+from seamless_ao.core.keys import BLEND, GROUP_NAME, NODE_PREFIX as PREFIX
+from seamless_ao.shaders.material import enable_nodes
 
 FAST = dict(rays=8, image_size=256)
 
@@ -157,7 +157,8 @@ def test_cycles_render_matches_numpy_blend(monkey, strength, interreflection):
 
 
 def test_eevee_render_matches_numpy_blend(tmp_path):
-    """The node group works in EEVEE too (its own process: EEVEE needs OpenGL, here Mesa's software one)."""
+    """The node group works in EEVEE too, in a process of its own (skipped where EEVEE cannot render: it needs
+    OpenGL, which a machine without a GPU has only through Mesa's software renderer)."""
     out = tmp_path / "eevee.npz"
     run = run_script("eevee_render.py", str(out), timeout=1200)
     if run.returncode == 3 and "EEVEE unavailable" in run.stdout:
@@ -171,14 +172,14 @@ def test_cli_bakes_a_saved_file_and_rejects_a_bad_name(tmp_path, fresh_scene):
     suzanne(1)
     blend = tmp_path / "scene.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(blend))
-    ok = run_script("cli.py", str(blend), "bake", "--objects", "Suzanne", "--rays", "4", "--image-size", "256",
+    ok = run_command(str(blend), "bake", "--objects", "Suzanne", "--rays", "4", "--image-size", "256",
                     "--save")
     assert ok.returncode == 0, ok.stdout[-2000:] + ok.stderr[-2000:]
     assert "Baked Suzanne" in ok.stdout
     bpy.ops.wm.open_mainfile(filepath=str(blend))
     assert "AO_X" in bpy.data.objects["Suzanne"].data.uv_layers
     assert bpy.data.images["Suzanne_AO"].packed_file is not None
-    bad = run_script("cli.py", str(blend), "bake", "--objects", "Nope")
+    bad = run_command(str(blend), "bake", "--objects", "Nope")
     assert bad.returncode == 1
     lines = [l for l in bad.stderr.splitlines() if l.startswith("seamless_ao:")]
     assert lines == ["seamless_ao: error: no object named 'Nope' (mesh objects in this file: Suzanne)"], bad.stderr
@@ -213,7 +214,7 @@ def test_scene_occluders_and_ground_plane_match_the_plain_reference(addon, fresh
     import bmesh
     from accuracy import errors, surface_samples
     from plain_reference import plain_ao
-    from seamless_ao.operators.mesh_data import read_triangles
+    from seamless_ao.operators.adapters.mesh_data import read_triangles
     floor_mesh = bpy.data.meshes.new("Floor")
     bm = bmesh.new()
     bmesh.ops.create_grid(bm, x_segments=8, y_segments=8, size=2.0)
@@ -263,7 +264,7 @@ def test_scene_occluders_and_ground_plane_match_the_plain_reference(addon, fresh
 def test_scene_occluders_take_only_objects_within_the_ray_distance(addon, fresh_scene):
     """Issue 16, item 6: objects whose bounds stay farther than the maximum ray distance from the baked
     object are not read, and leave the AO exactly as without them."""
-    from seamless_ao.operators.mesh_data import mesh_boxes, near_objects
+    from seamless_ao.operators.adapters.mesh_data import mesh_boxes, near_objects
     ball = suzanne(0, name="Ball")
     near = suzanne(0, name="Near")
     near.location = (3.0, 0.0, 0.0)                   # Suzanne is about 2.7 wide: bounds 0.27 apart

@@ -5,8 +5,8 @@ import numpy as np
 
 from blender_scenes import suzanne
 from seamless_ao.core.ao import BVHCaster
-from seamless_ao.operators.casters import NodesCaster
-from seamless_ao.operators.mesh_data import read_triangles
+from seamless_ao.operators.adapters.casters import NodesCaster
+from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 
 def test_nodes_caster_hits_a_plane_where_the_closed_form_says(fresh_scene):
@@ -61,7 +61,7 @@ def test_a_bake_of_many_objects_leaves_no_temporary_datablock(addon, fresh_scene
     them go in one batch_remove after the rays, after a cancel too."""
     import bpy
     from seamless_ao.core.errors import BakeCancelled
-    from seamless_ao.operators.casters import TEMP_PREFIX
+    from seamless_ao.core.keys import TEMP_PREFIX
 
     def temporary():
         return [d.name for kind in (bpy.data.scenes, bpy.data.objects, bpy.data.meshes, bpy.data.node_groups)

@@ -8,7 +8,7 @@ import meshes
 from accuracy import errors, reference_ao, shown_seamless, surface_samples
 from blender_scenes import add_object, mesh_from_arrays, sphere_over_plane
 from package import seamless_ao
-from seamless_ao.operators.mesh_data import read_triangles
+from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 
 def valley():

@@ -9,10 +9,10 @@ import pytest
 from accuracy import surface_samples
 from blender_checks import image_array, uv_layer_array
 from blender_scenes import suzanne
-from package import run_script, seamless_ao
+from package import run_command, seamless_ao
 from seamless_ao.core.blend import bilinear
-from seamless_ao.core.export import shown_at
-from seamless_ao.operators.mesh_data import read_triangles
+from seamless_ao.core.transfer import shown_at
+from seamless_ao.operators.adapters.mesh_data import read_triangles
 from seamless_ao.shaders.material import enable_nodes
 
 
@@ -58,7 +58,7 @@ def test_resampled_texture_matches_the_blend(baked):
 
 
 def test_resampled_texture_has_no_empty_texel_in_the_padding(baked):
-    from seamless_ao.core.export import resample_to_uv
+    from seamless_ao.core.transfer import resample_to_uv
     ob, mesh, loops, ao, layer_uv = baked
     target = uv_layer_array(ob.data, "UVMap")[loops]
     values, coverage = resample_to_uv(ao, layer_uv, mesh.corner_normals, target, 256, padding=6)
@@ -102,7 +102,7 @@ def test_colour_attribute_equals_the_blend_at_the_corners(baked, domain):
 def test_exports_show_the_materials_strength_and_interreflection(baked):
     """Issue 16, item 5: the exports apply each material's node inputs, as the material shows them (the
     render test in test_blender_bake.py checks the shader against the same blend), unless asked not to."""
-    from seamless_ao.shaders.material import BLEND
+    from seamless_ao.core.keys import BLEND
     ob, mesh, loops, ao, layer_uv = baked
     node = ob.material_slots[0].material.node_tree.nodes[BLEND]
     node.inputs["Strength"].default_value, node.inputs["Interreflection"].default_value = 0.6, 0.5
@@ -192,7 +192,7 @@ def test_cli_export(tmp_path, fresh_scene):
     bpy.ops.wm.save_as_mainfile(filepath=str(blend))
     for argv in (["bake", "--objects", "Suzanne", "--rays", "4", "--image-size", "256", "--save"],
                  ["export", "--objects", "Suzanne", "--size", "128", "--color-attribute", "CORNER", "--save"]):
-        proc = run_script("cli.py", str(blend), *argv)
+        proc = run_command(str(blend), *argv)
         assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     bpy.ops.wm.open_mainfile(filepath=str(blend))
     assert "Suzanne_AO_UVMap" in bpy.data.images

@@ -4,16 +4,15 @@ import bpy
 import numpy as np
 import pytest
 
-from accuracy import errors, reference_ao, shown_seamless, surface_samples, world_map
+from accuracy import P99_LIMIT, RMSE_LIMIT, errors, reference_ao, shown_seamless, surface_samples, world_map
 from blender_checks import image_array, uv_layer_array
 from blender_scenes import add_object, mesh_from_arrays, mesh_from_faces
 from package import seamless_ao
 from hard_meshes import HARD_MESHES
 from seamless_ao.core.pipeline import build_layout
-from seamless_ao.operators.mesh_data import read_triangles
+from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 SETTINGS = dict(image_size=512, rays=32)
-RMSE_LIMIT, P99_LIMIT = 0.03, 0.12
 
 
 def make(name):
@@ -198,7 +197,7 @@ def test_texels_of_a_transformed_object_get_the_ao_of_the_object_in_the_scene(na
     from seamless_ao.core.ao import occlusion_sums
     from seamless_ao.core.raster import texel_geometry
     from seamless_ao.core.settings import BakeSettings
-    from seamless_ao.operators.casters import ray_setup
+    from seamless_ao.operators.adapters.casters import ray_setup
 
     ob, mesh, loops, to_world = transformed_torus(name)
     world, _ = to_world(mesh.positions)

@@ -3,7 +3,9 @@
 import numpy as np
 import pytest
 
+from accuracy import P99_LIMIT, RMSE_LIMIT
 import real_assets
+from marks import heavy
 from package import seamless_ao
 
 
@@ -17,11 +19,9 @@ from package import seamless_ao
 #: slab and its wall overhang; bench_assets.py measures us 0.047 and Cycles 0.093 there) nor the flat noisy scan.
 ACCURACY_CASES = [(name, False, (1024,) if name in ("interior", "noisy_scan") else (512, 1024))
                   for name in sorted(real_assets.ASSETS)] + [("noisy_scan", True, (512, 1024))]
-RMSE_LIMIT, P99_LIMIT = 0.03, 0.12
 
 
-@pytest.mark.skipif(__import__("bpy").app.version[:2] != (5, 0),
-                    reason="heavy (about a minute): run on the default Blender only")
+@heavy
 @pytest.mark.parametrize("name, smooth, sizes", ACCURACY_CASES,
                          ids=["{}{}".format(c[0], "-smooth" if c[1] else "") for c in ACCURACY_CASES])
 def test_asset_bakes_as_accurately_as_the_hard_cases(name, smooth, sizes, addon, fresh_scene):
@@ -33,7 +33,7 @@ def test_asset_bakes_as_accurately_as_the_hard_cases(name, smooth, sizes, addon,
     from blender_scenes import add_object, mesh_from_arrays
     from accuracy import errors, shown_seamless
     from plain_reference import reference_at_visible_points
-    from seamless_ao.operators.mesh_data import read_triangles
+    from seamless_ao.operators.adapters.mesh_data import read_triangles
 
     positions, triangles = real_assets.ASSETS[name]()
     ob = add_object(name, mesh_from_arrays(name, positions, triangles, smooth=smooth))

@@ -7,7 +7,7 @@ import pytest
 
 from package import seamless_ao
 
-plan = seamless_ao.core.batch
+plan = seamless_ao.core.assets
 
 
 def touch(path, text="x", mtime=None):

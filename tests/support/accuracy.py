@@ -7,6 +7,11 @@ from plain_reference import plain_ao, visible_points
 from seamless_ao.core.blend import bilinear
 from seamless_ao.core.settings import BakeSettings
 
+#: Accuracy the tests hold a bake to, against the plain reference at random visible points: RMSE of the shown AO.
+RMSE_LIMIT = 0.03
+#: ... and its 99th percentile of the absolute error.
+P99_LIMIT = 0.12
+
 
 def surface_samples(mesh, count, seed=0):
     """Area-weighted random visible surface points of a TriangleMesh.

@@ -171,8 +171,8 @@ def rendered_and_blended(ob, engine="CYCLES", size=48, strength=1.0, interreflec
     """
     import bpy
     from package import seamless_ao
-    from seamless_ao.operators.mesh_data import read_triangles
-    from seamless_ao.shaders.material import BLEND
+    from seamless_ao.operators.adapters.mesh_data import read_triangles
+    from seamless_ao.core.keys import BLEND
     ob.rotation_euler = (0.3, 0.2, 0.5)
     bpy.context.view_layer.update()
     report = seamless_ao.bake([ob], rays=16, image_size=256)

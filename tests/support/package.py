@@ -24,6 +24,8 @@ import bpy  # noqa: E402  (must come after the environment is set)
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "tests" / "scripts"
+#: The product's own launcher: the ``seamless_ao`` command line, the demo and batch workers without Blender.
+LAUNCHER = ROOT / "operators" / "standalone" / "launch.py"
 NAME = "seamless_ao"
 
 
@@ -46,9 +48,14 @@ def load_package(name=NAME):
 seamless_ao = load_package()
 
 
+def run_command(*args, timeout=600):
+    """``blender --background [FILE.blend] --command seamless_ao ARGS`` through the product's launcher."""
+    return run_script(LAUNCHER, "command", *args, timeout=timeout)
+
+
 def run_script(name, *args, timeout=600):
-    """Run ``tests/scripts/<name>`` in a process of its own: the Python of the bpy module, or Blender
-    itself in the background when the suite runs inside Blender (``bpy.app.binary_path``)."""
+    """Run ``tests/scripts/<name>`` (or the script at a path) in a process of its own: the Python of the bpy
+    module, or Blender itself in the background when the suite runs inside Blender (``bpy.app.binary_path``)."""
     script = str(SCRIPTS / name)
     if bpy.app.binary_path and not bpy.app.binary_path.endswith(("python", "python3")):
         command = [bpy.app.binary_path, "--background", "--factory-startup", "--python", script, "--", *args]

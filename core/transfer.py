@@ -1,0 +1,103 @@
+"""Take the AO out of Blender: one texture on the user's own UV map, or per-corner colours.
+
+Both evaluate exactly what the ``Seamless AO`` node group shows (see
+:mod:`.blend`), from the baked image and the AO_X/Y/Z UVs; no ray is cast.
+"""
+
+import numpy as np
+
+from .blend import blended_ao
+from .fill import pull_push
+from .geometry2d import closest_barycentric, cross2d
+from .raster import rasterise_triangles
+
+
+def shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength=1.0, interreflection=0.0):
+    """The blend at surface points.
+
+    Parameters
+    ----------
+    ao_image : (h, w) float
+    layer_uv : (t, 3 layers, 3 corners, 2) float
+    corner_normals : (t, 3, 3) float, object space
+    triangle : (k,) int
+    bary : (k, 3) float
+    strength, interreflection : float, or (t,) float per triangle
+        The node's inputs (its material's), see :func:`.blend.blended_ao`.
+
+    Returns
+    -------
+    (k,) float64
+    """
+    uv = np.einsum("kc,klcd->kld", bary, layer_uv[triangle])
+    normals = np.einsum("kc,kcd->kd", bary, corner_normals[triangle])
+    per_point = [value if np.isscalar(value) else np.asarray(value)[triangle] for value in (strength, interreflection)]
+    return blended_ao(ao_image, uv, normals, *per_point)
+
+
+def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=8, degenerate=None,
+                   strength=1.0, interreflection=0.0):
+    """The blended AO laid out on another UV map (e.g. the user's unwrap).
+
+    Parameters
+    ----------
+    ao_image : (h, w) float, the baked atlas
+    layer_uv : (t, 3, 3, 2) AO_X/Y/Z UVs of every triangle corner
+    corner_normals : (t, 3, 3) object-space shading normals at the corners
+    target_uv : (t, 3, 2) the target UV map at every triangle corner
+    size : int or (width, height)
+    padding : int
+        Texels around every island that get the island's edge values
+        (bilinear filtering and mip-mapping at island borders do not bleed);
+        the rest of the image is filled smoothly from them.
+    degenerate : (t,) bool, optional, triangles to skip
+    strength, interreflection : float or (t,) float, the node's inputs (see :func:`shown_at`)
+
+    Returns
+    -------
+    image : (height, width) float32
+    coverage : (height, width) int8, 0 covered, 1 near, 2 padding, 3 filled
+    """
+    width, height = (size, size) if np.isscalar(size) else size
+    target = np.asarray(target_uv, dtype=np.float64) * [width, height]
+    area = np.abs(cross2d(target[:, 1] - target[:, 0], target[:, 2] - target[:, 0]))
+    live = np.flatnonzero((area > 0) & (True if degenerate is None else ~degenerate))
+    texels = rasterise_triangles(target, live, width, height, padding)
+    x = (texels.index % width).astype(np.float64) + 0.5
+    y = (texels.index // width).astype(np.float64) + 0.5
+    bary = np.stack(closest_barycentric(target[texels.member], x, y), axis=1)
+    values = shown_at(ao_image, layer_uv, corner_normals, texels.member, bary, strength, interreflection)
+    image = np.zeros(width * height)
+    weight = np.zeros(width * height)
+    image[texels.index] = values
+    weight[texels.index] = 1.0
+    coverage = np.full(width * height, 3, dtype=np.int8)
+    coverage[texels.index] = texels.kind
+    filled = pull_push(image.reshape(height, width), weight.reshape(height, width))
+    return filled.astype(np.float32), coverage.reshape(height, width)
+
+
+def corner_values(ao_image, layer_uv, corner_normals, strength=1.0, interreflection=0.0):
+    """The blend at every triangle corner: (t, 3) float64 (node inputs as in :func:`shown_at`)."""
+    count = len(layer_uv)
+    triangle = np.repeat(np.arange(count), 3)
+    bary = np.tile(np.eye(3), (count, 1))
+    return shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength, interreflection).reshape(count, 3)
+
+
+def vertex_average(corner_values, corner_vertex, vertex_count):
+    """Per-vertex mean of per-corner values; 1 (open) for a vertex no corner uses.
+
+    Parameters
+    ----------
+    corner_values : (c,) float, one per face corner (loop)
+    corner_vertex : (c,) int, the vertex of each corner
+    vertex_count : int
+
+    Returns
+    -------
+    (vertex_count,) float64
+    """
+    total = np.bincount(corner_vertex, weights=corner_values, minlength=vertex_count)
+    count = np.bincount(corner_vertex, minlength=vertex_count)
+    return np.where(count > 0, total / np.maximum(count, 1), 1.0)

@@ -1,0 +1,218 @@
+"""Take the AO out of Blender: a texture on the user's own UV map (glTF-ready), or a colour attribute.
+
+API (also used by the operators and the command line)::
+
+    resample(objects, uv_map=None, size=1024, padding=8, gltf_occlusion=True) -> [image names]
+    to_color_attribute(objects, domain="CORNER") -> [attribute names]
+
+Both need a bake (AO_X/Y/Z and the AO image) and evaluate exactly what the
+``Seamless AO`` node group shows; no ray is cast.
+"""
+
+import bpy
+import numpy as np
+
+from ...core.errors import SeamlessAOError
+from ...core.keys import (AO_LAYERS, BLEND, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_KEY, FRAME, GLTF_GROUP, GLTF_NODES,
+                          IMAGE_KEY, OURS_KEY)
+from ...core.settings import ExportSettings
+from ...core.transfer import corner_values, resample_to_uv, vertex_average
+from ...shaders import material as material_nodes
+from .mesh_data import read_object
+from .writes import store_float_image
+
+DEFAULTS = ExportSettings()
+
+
+def _baked_inputs(ob):
+    """AO image array, per-triangle layer UVs, target-ready triangle loops and corner normals of a baked object."""
+    if ob is None or ob.type != "MESH":
+        raise SeamlessAOError("'{}' is not a mesh".format(getattr(ob, "name", ob)))
+    mesh = ob.data
+    image = bpy.data.images.get(ob.get(IMAGE_KEY, ""))
+    if image is None or any(name not in mesh.uv_layers for name in AO_LAYERS):
+        raise SeamlessAOError("'{}' has no Seamless AO bake; bake it first".format(ob.name))
+    triangle_mesh, loops = read_object(ob, bpy.context.evaluated_depsgraph_get())
+    ao_image = image_values(image).astype(np.float64)
+    layer_uv = np.stack([_loop_uv(mesh, name)[loops] for name in AO_LAYERS], axis=1)   # (t, 3, 3, 2)
+    return ao_image, layer_uv, loops, triangle_mesh
+
+
+def image_values(image):
+    """(height, width) float32: the red channel of a Blender image (the AO, in an image a bake wrote)."""
+    width, height = image.size
+    pixels = np.empty(width * height * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    return pixels.reshape(height, width, 4)[:, :, 0]
+
+
+def node_inputs(ob, triangle_face, use):
+    """(strength (t,), interreflection (t,)) of each triangle: its face's material's ``Seamless AO`` node
+    inputs, or (1, 0) everywhere when ``use`` is off."""
+    if not use:
+        return 1.0, 0.0
+    per_slot = np.array([material_nodes.blend_inputs(slot.material) for slot in ob.material_slots] or [(1.0, 0.0)])
+    material_index = np.zeros(len(ob.data.polygons), dtype=np.int32)
+    ob.data.polygons.foreach_get("material_index", material_index)
+    slot = np.clip(material_index[triangle_face], 0, len(per_slot) - 1)
+    return per_slot[slot, 0], per_slot[slot, 1]
+
+
+def _loop_uv(mesh, name):
+    uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+    mesh.uv_layers[name].data.foreach_get("uv", uv)
+    return uv.reshape(-1, 2).astype(np.float64)
+
+
+def own_uv_map(ob, name=None):
+    """The UV map to resample onto: ``name``, else the render-active one, else the active one (not AO_*)."""
+    layers = [uv for uv in ob.data.uv_layers if uv.name not in AO_LAYERS]
+    if name:
+        if name not in ob.data.uv_layers or name in AO_LAYERS:
+            raise SeamlessAOError("'{}' has no UV map named '{}' (its UV maps: {})".format(
+                ob.name, name, ", ".join(uv.name for uv in layers) or "none"))
+        return name
+    for uv in layers:
+        if uv.active_render:
+            return uv.name
+    active = ob.data.uv_layers.active
+    if active is not None and active.name not in AO_LAYERS:
+        return active.name
+    if layers:
+        return layers[0].name
+    raise SeamlessAOError("'{}' has no UV map of its own to resample onto; unwrap it first".format(ob.name))
+
+
+def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
+             gltf_occlusion=DEFAULTS.gltf_occlusion, material_strength=DEFAULTS.material_strength):
+    """Write each object's blended AO into a new image on one of its own UV maps.
+
+    Parameters
+    ----------
+    objects : list of baked mesh objects
+    uv_map : str, optional, defaults to the render-active UV map (never AO_*)
+    size : int, width and height of the new image
+    padding : int, texels of dilation around every UV island
+    gltf_occlusion : bool
+        Also wire the image into every material through a "glTF Material
+        Output" group's Occlusion input, so Blender's glTF exporter writes it
+        as the material's ``occlusionTexture``.
+    material_strength : bool
+        Apply each material's Strength and Interreflection (the ``Seamless AO``
+        node's inputs), so the texture shows what the material shows.
+
+    Returns
+    -------
+    list of image names (``<object>_AO_<uv map>``)
+    """
+    settings = ExportSettings.from_kwargs(uv_map=uv_map or "", size=size, padding=padding,
+                                          gltf_occlusion=gltf_occlusion, material_strength=material_strength)
+    names = []
+    for ob in objects:
+        target = own_uv_map(ob, settings.uv_map or None)
+        ao_image, layer_uv, loops, mesh = _baked_inputs(ob)
+        target_uv = _loop_uv(ob.data, target)[loops]
+        values, _ = resample_to_uv(ao_image, layer_uv, mesh.corner_normals, target_uv, settings.size,
+                                   settings.padding, mesh.degenerate,
+                                   *node_inputs(ob, mesh.triangle_face, settings.material_strength))
+        image, _ = store_float_image("{}_AO_{}".format(ob.name, target), values, marks=(OURS_KEY, EXPORT_KEY),
+                                     keep_undo=False)
+        if settings.gltf_occlusion:
+            for material in {s.material for s in ob.material_slots if s.material is not None}:
+                hook_gltf_occlusion(material, image, target)
+        names.append(image.name)
+    return names
+
+
+def _gltf_group():
+    group = bpy.data.node_groups.get(GLTF_GROUP)
+    if group is None or group.bl_idname != "ShaderNodeTree":
+        group = bpy.data.node_groups.new(GLTF_GROUP, "ShaderNodeTree")
+        group.interface.new_socket("Occlusion", in_out="INPUT", socket_type="NodeSocketFloat")
+        thickness = group.interface.new_socket("Thickness", in_out="INPUT", socket_type="NodeSocketFloat")
+        thickness.default_value = 0.0
+        group.nodes.new("NodeGroupInput")
+        group.nodes.new("NodeGroupOutput")
+        group[EXPORT_KEY] = True
+    return group
+
+
+def hook_gltf_occlusion(material, image, uv_map):
+    """UV Map -> Image Texture (R) -> glTF Material Output > Occlusion, in the Seamless AO frame."""
+    material_nodes.enable_nodes(material)
+    tree = material.node_tree
+    nodes, links = tree.nodes, tree.links
+    frame = nodes.get(FRAME)
+    made = []
+    for name, kind in zip(GLTF_NODES, ("ShaderNodeUVMap", "ShaderNodeTexImage", "ShaderNodeSeparateColor",
+                                       "ShaderNodeGroup")):
+        node = nodes.get(name) or nodes.new(kind)
+        node.name, node.label = name, name.replace("SeamlessAO ", "")
+        node.parent = frame
+        made.append(node)
+    uv, texture, split, output = made
+    uv.uv_map = uv_map
+    texture.image = image
+    texture.interpolation = "Linear"
+    output.node_tree = _gltf_group()
+    base = nodes.get(BLEND)
+    x, y = (base.location.x, base.location.y - 700.0) if base is not None else (-600.0, -700.0)
+    for i, node in enumerate(made):
+        node.location = (x + 200.0 * (i - 2), y)
+    links.new(uv.outputs["UV"], texture.inputs["Vector"])
+    links.new(texture.outputs["Color"], split.inputs["Color"])
+    links.new(split.outputs["Red"], output.inputs["Occlusion"])
+
+
+def to_color_attribute(objects, domain=DEFAULTS.domain, material_strength=DEFAULTS.material_strength):
+    """Write each object's blended AO into a colour attribute ``AO`` (face corners or points).
+
+    Point values average the object's corners at each vertex.
+    """
+    settings = ExportSettings.from_kwargs(domain=domain, material_strength=material_strength)
+    domain = settings.domain
+    for ob in objects:
+        ao_image, layer_uv, loops, mesh = _baked_inputs(ob)
+        values = corner_values(ao_image, layer_uv, mesh.corner_normals,
+                               *node_inputs(ob, mesh.triangle_face, settings.material_strength))   # (t, 3)
+        data = ob.data
+        per_loop = np.ones(len(data.loops))
+        per_loop[loops.ravel()] = values.ravel()
+        if domain == "POINT":
+            vertex = np.empty(len(data.loops), dtype=np.int32)
+            data.loops.foreach_get("vertex_index", vertex)
+            per_element = vertex_average(per_loop, vertex, len(data.vertices))
+        else:
+            per_element = per_loop
+        existing = data.color_attributes.get(COLOR_ATTRIBUTE)
+        if existing is not None and (existing.domain != domain or existing.data_type != "FLOAT_COLOR"):
+            data.color_attributes.remove(existing)
+            existing = None
+        if existing is None and COLOR_ATTRIBUTE in data.attributes:
+            raise SeamlessAOError("'{}' already has an attribute named '{}' that is not a colour; rename it "
+                                  "first".format(ob.name, COLOR_ATTRIBUTE))
+        attribute = existing or data.color_attributes.new(COLOR_ATTRIBUTE, "FLOAT_COLOR", domain)
+        ob[COLOR_KEY] = True
+        colours = np.repeat(per_element.astype(np.float32)[:, None], 4, axis=1)
+        colours[:, 3] = 1.0
+        attribute.data.foreach_set("color", colours.ravel())
+    return [COLOR_ATTRIBUTE for _ in objects]
+
+
+def clear_exports(ob):
+    """Remove the colour attribute and unused images and glTF group the exports made for ``ob``."""
+    touched = False
+    if ob.get(COLOR_KEY):
+        attribute = ob.data.color_attributes.get(COLOR_ATTRIBUTE)
+        if attribute is not None:
+            ob.data.color_attributes.remove(attribute)
+        del ob[COLOR_KEY]
+        touched = True
+    for image in [i for i in bpy.data.images if i.get(EXPORT_KEY) and i.name.startswith(ob.name + "_AO_")]:
+        if image.users == 0:
+            bpy.data.images.remove(image)
+            touched = True
+    group = bpy.data.node_groups.get(GLTF_GROUP)
+    if group is not None and group.get(EXPORT_KEY) and group.users == 0:
+        bpy.data.node_groups.remove(group)
+    return touched

@@ -1,0 +1,25 @@
+"""The scene's saved Seamless AO settings (``scene.seamless_ao``, or an operator's properties) read into
+the core's :class:`~...core.settings.BakeSettings` and ``ExportSettings``."""
+
+from ...core.settings import BakeSettings, ExportSettings, export_fields, setting_fields
+
+
+def settings_from(source, overrides=None):
+    """:class:`BakeSettings` read from a property holder (scene group or operator).
+
+    ``overrides`` is an optional second holder whose explicitly set properties win.
+    """
+    values = {f.name: getattr(source, f.name) for f in setting_fields()}
+    if overrides is not None:
+        for f in setting_fields():
+            if overrides.properties.is_property_set(f.name):
+                values[f.name] = getattr(overrides, f.name)
+    return BakeSettings.from_kwargs(**values)
+
+
+def scene_export_settings(scene):
+    """:class:`ExportSettings` saved on the scene (the defaults if the add-on's properties are not there)."""
+    props = getattr(scene, "seamless_ao", None)
+    if props is None:
+        return ExportSettings()
+    return ExportSettings.from_kwargs(**{f.name: getattr(props, "export_" + f.name) for f in export_fields()})

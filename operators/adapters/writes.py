@@ -1,0 +1,293 @@
+"""Writing into Blender data so that a failed or cancelled bake changes nothing.
+
+:class:`Transaction` makes each write with the action that undoes it;
+:class:`MaterialSnapshot` is enough of a material to put it back exactly;
+:func:`store_float_image` is the one writer of float images (bake and export);
+:func:`save_image_file` writes the AO next to the .blend.
+"""
+
+import os
+
+import bpy
+import numpy as np
+
+from ...core.keys import AO_LAYERS, GROUP_VERSION, IMAGE_KEY, MATERIAL_KEY, OURS_KEY, SAVE_COPY, VERSION_KEY
+from ...core.png import png16
+from ...shaders import material as material_nodes
+from ...shaders.node_group import find_node_group, node_group as build_node_group
+
+
+class Transaction:
+    """Writes into Blender data, each with the action that undoes it."""
+
+    def __init__(self):
+        self.undo = []
+        self.undo_first = []            # undone before the rest: the node group, before its users
+        self.on_commit = []
+
+    def roll_back(self):
+        for action in self.undo_first + self.undo[::-1]:
+            action()
+        self.undo.clear()
+        self.undo_first.clear()
+        self.on_commit.clear()
+
+    def commit(self):
+        """Everything was written: drop what was kept only for a roll-back."""
+        for action in self.on_commit:
+            action()
+        self.on_commit.clear()
+        self.undo.clear()
+        self.undo_first.clear()
+
+    def node_group(self):
+        """The current ``Seamless AO`` group.  An older one is rebuilt in place; until the bake is
+        committed a copy of the old one is kept, so a roll-back puts it back for every material."""
+        group = find_node_group()
+        if group is None:
+            self.undo.append(_remove_node_group_if_unused)
+        elif group.get(VERSION_KEY) != GROUP_VERSION:
+            backup = group.copy()
+            del backup[VERSION_KEY]                   # not found as ours meanwhile
+
+            def restore(group=group, backup=backup, name=group.name, version=group[VERSION_KEY]):
+                group.user_remap(backup)
+                bpy.data.node_groups.remove(group)
+                backup.name = name
+                backup[VERSION_KEY] = version
+            # first: the materials, restored afterwards, relink to the old group's sockets; their
+            # snapshots are taken now, since rebuilding the group drops their links to it
+            self.undo_first.append(restore)
+            for material in bpy.data.materials:
+                if material.node_tree is not None and any(
+                        n.bl_idname == "ShaderNodeGroup" and n.node_tree == group for n in material.node_tree.nodes):
+                    self.undo.append(MaterialSnapshot(material).restore)
+            self.on_commit.append(lambda backup=backup: bpy.data.node_groups.remove(backup))
+        return build_node_group()
+
+    def file(self, path, write):
+        """``write(path)``, undone by putting back the file that was there (or removing the new one)."""
+        old = None
+        if os.path.exists(path):
+            with open(path, "rb") as handle:
+                old = handle.read()
+
+        def restore(path=path, old=old):
+            if old is None:
+                if os.path.exists(path):
+                    os.remove(path)
+            else:
+                with open(path, "wb") as handle:
+                    handle.write(old)
+        self.undo.append(restore)
+        write(path)
+
+    def set_property(self, owner, key, value):
+        """``owner[key] = value``, undone by restoring (or deleting) the old value."""
+        old = owner.get(key)
+
+        def restore(owner=owner, key=key, old=old):
+            if old is None:
+                owner.pop(key, None)
+            else:
+                owner[key] = old
+        self.undo.append(restore)
+        owner[key] = value
+
+    def image(self, name, values):
+        """The AO image, new or (if the add-on made it) overwritten in place; packed into the .blend."""
+        image, undo = store_float_image(name, values)
+        self.undo.append(undo)
+        return image
+
+    def uv_maps(self, mesh, loops, layer_uv):
+        """Create or replace AO_X/Y/Z; the user's active and render-active UV maps stay as they were.
+
+        Parameters
+        ----------
+        loops : (t, 3) int, loop of each triangle corner
+        layer_uv : (t, 3 layers, 3 corners, 2)
+        """
+        layers = mesh.uv_layers
+        active = layers.active.name if layers.active is not None else None
+        render = next((uv.name for uv in layers if uv.active_render), None)
+        for axis, name in enumerate(AO_LAYERS):
+            uv = np.zeros((len(mesh.loops), 2), dtype=np.float32)
+            uv[loops.ravel()] = layer_uv[:, axis].reshape(-1, 2)
+            layer = layers.get(name)
+            if layer is None:
+                layer = layers.new(name=name, do_init=False)
+                self.undo.append(lambda mesh=mesh, name=name: mesh.uv_layers.remove(mesh.uv_layers[name]))
+            else:
+                old = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+                layer.data.foreach_get("uv", old)
+                self.undo.append(lambda mesh=mesh, name=name, old=old: mesh.uv_layers[name].data.foreach_set("uv", old))
+            layer.data.foreach_set("uv", uv.ravel())
+        self.undo.append(lambda mesh=mesh, active=active, render=render: _restore_active(mesh, active, render))
+        _restore_active(mesh, active, render)
+
+    def materials(self, ob, image, multiply, baked_objects):
+        """Hook every material of ``ob`` (giving it one if it has none)."""
+        warnings = []
+        if not any(slot.material for slot in ob.material_slots):
+            material = material_nodes.new_material(ob.name + "_SeamlessAO")
+            if ob.material_slots:
+                old = ob.material_slots[0].material
+                ob.material_slots[0].material = material
+                self.undo.append(lambda ob=ob, old=old: setattr(ob.material_slots[0], "material", old))
+            else:
+                ob.data.materials.append(material)
+                self.undo.append(lambda mesh=ob.data: mesh.materials.pop())
+            self.undo.append(lambda material=material: bpy.data.materials.remove(material))
+            self.set_property(ob, MATERIAL_KEY, material.name)
+        baked_meshes = {o.data for o in baked_objects}
+        for material in {slot.material for slot in ob.material_slots if slot.material is not None}:
+            if material.library is not None:
+                warnings.append("material '{}' is linked from a library and was left alone".format(material.name))
+                continue
+            snapshot = MaterialSnapshot(material)
+            material_nodes.hook_material(material, image, multiply)
+            self.undo.append(snapshot.restore)
+            sharers = [o.name for o in bpy.data.objects if o.type == "MESH" and o.data not in baked_meshes
+                       and any(s.material == material for s in o.material_slots) and o.get(IMAGE_KEY)]
+            if sharers:
+                warnings.append("material '{}' is also used by {}, baked separately: it now shows this bake's "
+                                "image; bake them together to share one".format(material.name, ", ".join(sharers)))
+        return warnings
+
+
+def store_float_image(name, values, marks=(OURS_KEY,), keep_undo=True):
+    """The image ``name`` holding ``values`` (height, width) as grey: float, Non-Color, packed into the .blend.
+
+    Made new (with the custom properties ``marks`` set), or, if Seamless AO
+    made it, overwritten in place.  Returns ``(image, undo)``; ``undo()`` puts
+    back what was there before (``None`` with ``keep_undo`` off: the old
+    pixels are then not even read).
+    """
+    height, width = values.shape
+    image = bpy.data.images.get(name)
+    if image is not None and image.get(OURS_KEY):
+        undo = _pixels_undo(image) if keep_undo else None
+        _regenerate(image, width, height)
+    else:
+        image = bpy.data.images.new(name, width, height, alpha=False, float_buffer=True)
+        for key in marks:
+            image[key] = True
+
+        def undo(image=image):
+            bpy.data.images.remove(image)
+    if image.colorspace_settings.name != "Non-Color":
+        image.colorspace_settings.name = "Non-Color"
+    image.pixels.foreach_set(grey_pixels(values))
+    image.pack()
+    return image, undo
+
+
+def _pixels_undo(image):
+    """A function that puts ``image``'s current size and pixels back."""
+    size = tuple(image.size)
+    pixels = np.empty(len(image.pixels), dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+
+    def undo():
+        _regenerate(image, *size)
+        image.pixels.foreach_set(pixels)
+        image.pack()
+    return undo
+
+
+def grey_pixels(values):
+    """Flat RGBA float32 pixels of ``values`` (height, width): grey, opaque."""
+    pixels = np.repeat(np.asarray(values, dtype=np.float32).reshape(-1, 1), 4, axis=1)
+    pixels[:, 3] = 1.0
+    return pixels.ravel()
+
+
+def _regenerate(image, width, height):
+    """Turn a (packed) image back into a generated float buffer of the given size, keeping the datablock."""
+    image.source = "GENERATED"
+    image.generated_width, image.generated_height = width, height
+    image.use_generated_float = True
+
+
+def _remove_node_group_if_unused():
+    group = find_node_group()
+    if group is not None and group.users == 0:
+        bpy.data.node_groups.remove(group)
+
+
+def _restore_active(mesh, active, render):
+    layers = mesh.uv_layers
+    if active is not None and active in layers:
+        layers.active = layers[active]
+    if render is not None and render in layers:
+        layers[render].active_render = True
+
+
+class MaterialSnapshot:
+    """Enough of a material's node tree to put it back exactly: the nodes we add and the links we change."""
+
+    def __init__(self, material):
+        self.material = material
+        self.had_nodes = material_nodes.uses_nodes(material)
+        self.keys = {k: material[k] for k in material.keys()}
+        tree = material.node_tree
+        self.ours = set()
+        self.links = []
+        self.values = {}
+        self.images = {}
+        if tree is not None:
+            self.ours = {n.name for n in tree.nodes if material_nodes.is_ours(n)}
+            self.images = {n.name: n.image for n in tree.nodes
+                           if material_nodes.is_ours(n) and n.bl_idname == "ShaderNodeTexImage"}
+            self.links = [(l.from_node.name, l.from_socket.identifier, l.to_node.name, l.to_socket.identifier)
+                          for l in tree.links]
+            for node in tree.nodes:
+                if node.bl_idname == "ShaderNodeBsdfPrincipled":
+                    self.values[node.name] = tuple(node.inputs["Base Color"].default_value)
+
+    def restore(self):
+        material = self.material
+        tree = material.node_tree
+        if tree is not None:
+            for node in [n for n in tree.nodes if material_nodes.is_ours(n) and n.name not in self.ours]:
+                tree.nodes.remove(node)
+            for link in list(tree.links):
+                tree.links.remove(link)
+            for from_node, from_socket, to_node, to_socket in self.links:
+                source, target = tree.nodes.get(from_node), tree.nodes.get(to_node)
+                if source is not None and target is not None:
+                    tree.links.new(material_nodes._socket(source.outputs, from_socket),
+                                   material_nodes._socket(target.inputs, to_socket))
+            for name, value in self.values.items():
+                tree.nodes[name].inputs["Base Color"].default_value = value
+            for name, image in self.images.items():
+                if tree.nodes.get(name) is not None:
+                    tree.nodes[name].image = image
+        for key in [k for k in material.keys() if k not in self.keys]:
+            del material[key]
+        if material_nodes.uses_nodes(material) != self.had_nodes:
+            material.use_nodes = self.had_nodes
+
+
+def image_file_path(image, kind):
+    """Where ``save_image`` writes: next to the .blend, named after the image."""
+    folder = os.path.dirname(bpy.path.abspath(bpy.data.filepath))
+    return os.path.join(folder, image.name + (".png" if kind == "PNG" else ".exr"))
+
+
+def save_image_file(path, image, values, kind):
+    """Write the AO to ``path``: 16-bit greyscale PNG or 32-bit float OpenEXR."""
+    if kind == "PNG":
+        with open(path, "wb") as handle:
+            handle.write(png16(values))
+        return
+    copy = bpy.data.images.new(SAVE_COPY, image.size[0], image.size[1], alpha=False, float_buffer=True)
+    try:
+        copy.colorspace_settings.name = "Non-Color"
+        copy.pixels.foreach_set(grey_pixels(values))
+        copy.filepath_raw = path
+        copy.file_format = "OPEN_EXR"
+        copy.save()
+    finally:
+        bpy.data.images.remove(copy)

@@ -1,0 +1,210 @@
+"""Bake a folder of assets: ``batch(paths, output_dir=None, jobs=None, ...) -> [AssetRecord]``.
+
+The same as ``blender --background --command seamless_ao batch PATH ...``.
+Each asset is baked in a worker process of its own (``jobs`` at a time), so
+a crash or a refused mesh costs one asset, never the batch, and the cores
+are used even where a bake runs on one.  Workers are Blender itself
+(``bpy.app.binary_path --background --factory-startup --disable-autoexec``)
+or, under the bpy module, the same Python; either way they load this package
+from its own folder and never run anything an asset carries.
+"""
+
+import dataclasses
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+import bpy
+
+from ...core.assets import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
+                            settings_digest, write_stamp)
+from ...core.errors import SeamlessAOError
+from ...core.settings import DOMAIN_ITEMS, BakeSettings, ExportSettings
+
+PACKAGE_ROOT = pathlib.Path(__file__).resolve().parents[2]
+REPORT_VERSION = 1
+EXPORT_DEFAULTS = ExportSettings()
+#: Where a batch's defaults differ from a bake's: the pieces of an asset occlude each other.
+BATCH_DEFAULTS = {"use_scene_occluders": True}
+
+#: What a worker process runs: this package loaded from its folder under a name of its own (so an installed
+#: copy is never registered twice), then :func:`.worker.main` on the job file.
+LAUNCHER = PACKAGE_ROOT / "operators" / "standalone" / "launch.py"
+
+
+def worker_command(job_path):
+    """The command line of one worker: background Blender, or this Python when ``bpy`` is the module."""
+    binary = bpy.app.binary_path
+    if binary and not os.path.basename(binary).startswith("python"):
+        return [binary, "--background", "--factory-startup", "--disable-autoexec", "--python", str(LAUNCHER),
+                "--", "worker", job_path]
+    return [sys.executable, str(LAUNCHER), "worker", job_path]
+
+
+def worker_environment():
+    """The worker's environment: this process's, plus its ``sys.path`` folders (where Blender keeps the
+    extension's wheels), which :mod:`..standalone.launch` adds to the worker's."""
+    paths = [p for p in sys.path if p and os.path.isdir(p)]
+    return dict(os.environ, SEAMLESS_AO_PATHS=os.pathsep.join(paths))
+
+
+def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, new_uv=False,
+          color_attribute=None, texture_size=EXPORT_DEFAULTS.size, texture_padding=EXPORT_DEFAULTS.padding,
+          report=None, progress=None, timeout=None, **settings):
+    """Bake every asset found in ``paths``; returns one :class:`~..core.batch.AssetRecord` per asset.
+
+    Parameters
+    ----------
+    paths : list of str
+        Files, folders (searched with their subfolders) or glob patterns.
+    output_dir : str, optional
+        Where the results go (created if needed); default: next to each input.
+    jobs : int, optional
+        Worker processes at once; default: the number of cores.
+    pattern : str
+        File-name glob inside folders, e.g. ``"*.glb"``.
+    force : bool
+        Bake even assets whose output is up to date.
+    per_object : bool
+        One AO image per object instead of one per asset.
+    new_uv : bool
+        glTF out: put the AO on a new UV map ``AO_UV`` (the second UV set,
+        ``texCoord`` 1) even when the asset has its own UVs (use it when they
+        overlap or tile).
+    color_attribute : {"CORNER", "POINT"}, optional
+        glTF out: also write the AO as the vertex colour ``COLOR_0``.
+    texture_size, texture_padding : int
+        glTF out: size and padding of the occlusion texture.
+    report : str, optional
+        Write a JSON report here (schema in the README).
+    progress : callable(str), optional
+        Called with one line per finished asset; default: print to stderr.
+    timeout : float, optional
+        Seconds an asset may take; a worker still running then is stopped
+        and its asset reported failed.  Default: no limit.
+    **settings
+        Any bake setting (:class:`~..core.settings.BakeSettings`), e.g.
+        ``rays=32``; the others take their defaults, not a scene's, except
+        ``use_scene_occluders``, on unless given: an asset's pieces occlude
+        each other.
+
+    Raises
+    ------
+    SeamlessAOError
+        For a bad setting, or when ``paths`` name no asset at all.
+    """
+    bake_settings = BakeSettings.from_kwargs(**dict(BATCH_DEFAULTS, **settings))
+    if bake_settings.save_image != "NONE":
+        raise SeamlessAOError("save_image is not available in a batch: the AO goes into each output file (packed "
+                              "into the .blend, embedded in the .glb), and files beside the inputs would leave "
+                              "the output folder")
+    if timeout is not None and not timeout > 0:
+        raise SeamlessAOError("timeout must be a number of seconds above 0 (got {!r})".format(timeout))
+    export = ExportSettings.from_kwargs(size=texture_size, padding=texture_padding)
+    if color_attribute is not None and color_attribute not in [item[0] for item in DOMAIN_ITEMS]:
+        raise SeamlessAOError("color_attribute must be one of {} (got {!r})".format(
+            ", ".join(item[0] for item in DOMAIN_ITEMS), color_attribute))
+    jobs = int(jobs or os.cpu_count() or 1)
+    if jobs < 1:
+        raise SeamlessAOError("jobs must be at least 1 (got {})".format(jobs))
+    progress = progress or (lambda line: print(line, file=sys.stderr, flush=True))
+
+    assets, unreadable = find_assets(paths, pattern)
+    assets = drop_outputs(assets, output_dir)
+    if not assets:
+        raise SeamlessAOError("no asset to bake: " + ("; ".join("{}: {}".format(*u) for u in unreadable)
+                                                       or "the paths name none"))
+    if output_dir is not None:
+        os.makedirs(output_dir, exist_ok=True)
+    outputs = plan_outputs(assets, output_dir)
+    job_options = dict(settings=dataclasses.asdict(bake_settings), per_object=bool(per_object),
+                       new_uv=bool(new_uv), color_attribute=color_attribute, texture_size=export.size,
+                       texture_padding=export.padding)
+    digest = settings_digest(job_options)
+
+    records = [AssetRecord(input=given, output="", error=sentence) for given, sentence in unreadable]
+    total = len(assets) + len(records)
+    started = time.perf_counter()
+    for record in records:
+        progress(progress_line(len(records), total, record, time.perf_counter() - started))
+    queue = []
+    for asset in assets:
+        stamp = None if force else previous_result(asset, outputs[asset], digest)
+        if stamp is None:
+            queue.append(asset)
+            continue
+        record = AssetRecord(input=str(asset), output=str(outputs[asset]), skipped=True,
+                             status="skipped" if stamp["status"] == "baked" else "failed", error=stamp["error"])
+        records.append(record)
+        progress(progress_line(len(records), total, record, time.perf_counter() - started))
+
+    with tempfile.TemporaryDirectory(prefix="seamless_ao_batch_") as scratch:
+        for record in _run_workers(queue, outputs, job_options, jobs, scratch, timeout):
+            records.append(record)
+            write_stamp(record.output, record.input, digest, record)
+            progress(progress_line(len(records), total, record, time.perf_counter() - started))
+    if report is not None:
+        write_report(report, records, job_options, time.perf_counter() - started)
+    return records
+
+
+def _run_workers(queue, outputs, job_options, jobs, scratch, timeout=None):
+    """Yield each asset's record as its worker finishes, keeping ``jobs`` workers busy; a worker running
+    longer than ``timeout`` seconds is killed."""
+    queue = list(queue)
+    running = []
+    number = 0
+    while queue or running:
+        while queue and len(running) < jobs:
+            asset = queue.pop(0)
+            number += 1
+            job_path = os.path.join(scratch, "job{}.json".format(number))
+            job = dict(job_options, input=str(asset), output=str(outputs[asset]),
+                       record=os.path.join(scratch, "record{}.json".format(number)))
+            with open(job_path, "w", encoding="utf-8") as handle:
+                json.dump(job, handle)
+            log_path = os.path.join(scratch, "log{}.txt".format(number))
+            with open(log_path, "w", encoding="utf-8") as log:
+                process = subprocess.Popen(worker_command(job_path), stdout=log, stderr=subprocess.STDOUT,
+                                           stdin=subprocess.DEVNULL, env=worker_environment())
+            running.append((process, job, log_path, time.perf_counter()))
+        time.sleep(0.05)
+        for entry in list(running):
+            process, job, log_path, started = entry
+            late = timeout is not None and time.perf_counter() - started > timeout
+            if late and process.poll() is None:
+                process.kill()
+                process.wait()
+            if process.poll() is not None:
+                running.remove(entry)
+                yield _collect(process, job, log_path, timeout if late else None)
+
+
+def _collect(process, job, log_path, timed_out=None):
+    """The record a worker wrote, or one that says how the worker died (or that it was stopped after
+    ``timed_out`` seconds)."""
+    if timed_out is not None:
+        return AssetRecord(input=job["input"], output=job["output"], seconds={"total": float(timed_out)},
+                           error="stopped after {:g} s (--timeout); the asset took longer".format(timed_out))
+    try:
+        with open(job["record"], encoding="utf-8") as handle:
+            return AssetRecord(**json.load(handle))
+    except (OSError, ValueError, TypeError):
+        pass
+    with open(log_path, encoding="utf-8", errors="replace") as handle:
+        lines = [line.strip() for line in handle if line.strip()]
+    return AssetRecord(input=job["input"], output=job["output"], error="the worker stopped with exit code {}{}".format(
+        process.returncode, " ({})".format(lines[-1]) if lines else ""))
+
+
+def write_report(path, records, job_options, seconds):
+    """The JSON report: the settings, totals and one record per asset (README, "Pipelines")."""
+    counts = {status: sum(r.status == status for r in records) for status in ("baked", "skipped", "failed")}
+    data = {"version": REPORT_VERSION, "settings": job_options, "seconds": seconds, "counts": counts,
+            "assets": [r.as_dict() for r in records]}
+    with open(path, "w", encoding="utf-8") as handle:
+        json.dump(data, handle, indent=1)

@@ -1,0 +1,63 @@
+"""Run Seamless AO in a process of its own, from this folder, with no install.
+
+    python operators/standalone/launch.py command [FILE.blend] ARGS...   # = blender -b [FILE] --command seamless_ao ARGS
+    python operators/standalone/launch.py demo [--output-dir out] ...    # make demo
+    python operators/standalone/launch.py worker JOB.json                # one batch worker (operators/batch/)
+    blender --background --factory-startup --python operators/standalone/launch.py -- worker JOB.json
+
+``python`` is one with the ``bpy`` module (the virtualenvs of ``make``), or
+Blender itself runs this file.  It loads the package from the repository (or
+extension) folder under a name of its own, so an installed copy is never
+registered twice, and hands the rest of the command line to
+:mod:`.command`, :mod:`.demo` or the batch worker.  Folders listed in the
+environment variable ``SEAMLESS_AO_PATHS`` are added to ``sys.path`` first
+(a batch passes its own, where Blender's extension wheels live).
+
+The process ends with ``os._exit``: the bpy 4.2 *module* crashes in
+interpreter teardown once a PropertyGroup was registered.
+"""
+
+import importlib
+import importlib.util
+import os
+import pathlib
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+NAME = "seamless_ao_standalone"
+ENTRY_POINTS = {"command": "operators.standalone.command", "demo": "operators.standalone.demo",
+                "worker": "operators.batch.worker"}
+
+
+def load_package(name=NAME):
+    """The package in :data:`ROOT`, imported as ``name``."""
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, ROOT / "__init__.py", submodule_search_locations=[str(ROOT)])
+    package = importlib.util.module_from_spec(spec)
+    sys.modules[name] = package
+    spec.loader.exec_module(package)
+    return package
+
+
+def arguments():
+    """The launcher's own arguments: after ``--`` under Blender, after the script's name under Python."""
+    return sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
+
+
+def main(argv):
+    if not argv or argv[0] not in ENTRY_POINTS:
+        print("usage: launch.py {{{}}} ARGS...".format(",".join(ENTRY_POINTS)), file=sys.stderr)
+        return 2
+    for entry in os.environ.get("SEAMLESS_AO_PATHS", "").split(os.pathsep):
+        if entry and entry not in sys.path:
+            sys.path.append(entry)
+    load_package()
+    return importlib.import_module(NAME + "." + ENTRY_POINTS[argv[0]]).main(argv[1:])
+
+
+if __name__ == "__main__":
+    status = main(arguments())
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)

@@ -1,0 +1,94 @@
+"""The README and docs/ tell the truth: every figure they state was written by a script, the pages read off
+the code are current, the README is short, and every relative link resolves."""
+
+import importlib.util
+import re
+
+import pytest
+
+from package import ROOT
+
+DOCS = ROOT / "docs"
+#: Pages a script writes: the benchmarks' (docs/bench/*.md, assembled into docs/benchmarks.md) and those
+#: read off the code (tests/scripts/write_docs.py).  Every other page is written by hand.
+GENERATED = ("benchmarks.md", "settings.md", "constants.md", "tested.md")
+#: The README is at most this many lines: what it is, the two commands, install, the panel, one line each of
+#: the command line, the API and the batch, and links.
+README_LINES = 250
+
+_NUMBER = re.compile(r"(?<![\w.§])(?:\d{1,3}(?:,\d{3})+|\d+)(?:\.\d+)?(?:·10⁻?[⁰¹²³⁴⁵⁶⁷⁸⁹]+|⁻?[⁰¹²³⁴⁵⁶⁷⁸⁹]+)?")
+
+
+def hand_written():
+    return [ROOT / "README.md"] + sorted(p for p in DOCS.glob("*.md") if p.name not in GENERATED)
+
+
+def generated():
+    return [DOCS / name for name in GENERATED if (DOCS / name).exists()] + sorted((DOCS / "bench").glob("*.md"))
+
+
+def prose(text):
+    """``text`` without fenced code, inline code and link targets: what states figures in words."""
+    text = re.sub(r"```.*?```", " ", text, flags=re.S)
+    text = re.sub(r"`[^`\n]*`", " ", text)
+    return re.sub(r"\]\([^)]*\)", "]", text)
+
+
+def figures(text):
+    """The numbers stated in ``text``: thousands separators dropped, ``512²`` read as 512 (an image size),
+    ``10⁻⁵`` kept whole; single digits are counts in words ("three UV maps", "step 2") and are left out."""
+    found = set()
+    for match in _NUMBER.finditer(text):
+        token = match.group(0).replace(",", "")
+        if token.endswith(("²", "³")) and "⁻" not in token and not token.startswith("10"):
+            token = token[:-1]
+        if re.fullmatch(r"\d", token):
+            continue
+        found.add(token)
+    return found
+
+
+def test_figures_are_read_as_the_docs_write_them():
+    assert figures("RMSE 0.0159 at 512², 1,300 pieces, 10⁻⁵ of the size, 2·10⁻⁵, 3 rays, §7.3") == {
+        "0.0159", "512", "1300", "10⁻⁵", "2·10⁻⁵"}
+    assert figures(prose("`--rays 128` and ```\nmake 999\n``` and [a link](x/88.md)")) == set()
+
+
+def test_every_figure_in_the_readme_and_docs_was_written_by_a_script():
+    written = set()
+    for path in generated():
+        written |= figures(path.read_text())
+    unwritten = {}
+    for path in hand_written():
+        missing = sorted(figures(prose(path.read_text())) - written)
+        if missing:
+            unwritten[str(path.relative_to(ROOT))] = missing
+    assert not unwritten, "figures no script wrote (quote a page in docs/bench/, or delete them): {}".format(
+        unwritten)
+
+
+def test_the_pages_read_off_the_code_are_current():
+    spec = importlib.util.spec_from_file_location("write_docs", ROOT / "tests" / "scripts" / "write_docs.py")
+    write_docs = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(write_docs)
+    for name, page in write_docs.PAGES.items():
+        assert (DOCS / name).read_text() == page(), "docs/{} is out of date: run make docs".format(name)
+
+
+def test_the_readme_is_short():
+    assert len((ROOT / "README.md").read_text().splitlines()) <= README_LINES
+
+
+@pytest.mark.parametrize("path", hand_written() + generated(), ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_relative_link_resolves(path):
+    text = re.sub(r"```.*?```", " ", path.read_text(), flags=re.S)
+    for target in re.findall(r"\]\(([^)\s]+)\)", text):
+        if re.match(r"[a-z]+:", target) or target.startswith("#"):
+            continue
+        file_part, _, fragment = target.partition("#")
+        linked = (path.parent / file_part).resolve()
+        assert linked.exists(), "{} links to {}, which does not exist".format(path.relative_to(ROOT), target)
+        if fragment and linked.suffix == ".md":
+            headings = {re.sub(r"[^\w\- ]", "", h.lower()).strip().replace(" ", "-")
+                        for h in re.findall(r"^#+ (.*)$", linked.read_text(), re.M)}
+            assert fragment in headings, "{} links to a missing heading {}".format(path.relative_to(ROOT), target)

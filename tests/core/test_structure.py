@@ -1,0 +1,79 @@
+"""The package's shape: relative imports only, no import circle, no file over 450 lines, core free of bpy."""
+
+import ast
+import pathlib
+
+from package import ROOT
+
+PACKAGE_FOLDERS = ("core", "operators", "panels", "shaders")
+#: No Python file of the repository is longer than this many lines.
+MAX_LINES = 450
+
+
+def package_modules():
+    """``{dotted name: path}`` of every module of the package (the repository root is the package)."""
+    modules = {"": ROOT / "__init__.py"}
+    for folder in PACKAGE_FOLDERS:
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            parts = path.relative_to(ROOT).with_suffix("").parts
+            modules[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    return modules
+
+
+def imported_modules(name, path, modules):
+    """The package modules that module ``name`` imports at its top level or inside functions."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.level:
+            base = package.split(".") if package else []
+            base = base[:len(base) - (node.level - 1)] if node.level > 1 else base
+            target = ".".join(base + ([node.module] if node.module else []))
+            for alias in node.names:                     # "from . import operators" imports a module
+                child = (target + "." if target else "") + alias.name
+                found.add(child if child in modules else target)
+    return found & set(modules)
+
+
+def test_the_package_imports_itself_only_relatively_and_core_never_imports_bpy_context():
+    for name, path in package_modules().items():
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                assert not any(a.name.startswith("seamless_ao") for a in node.names), path
+            if isinstance(node, ast.ImportFrom) and not node.level:
+                assert not (node.module or "").startswith("seamless_ao"), path
+        if name.startswith("core"):
+            imported = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+            imported |= {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and not n.level}
+            assert not any(m == "bpy" or m.startswith("bpy.") for m in imported if m), path
+
+
+def test_no_import_circle():
+    modules = package_modules()
+    graph = {name: imported_modules(name, path, modules) - {name} for name, path in modules.items()}
+    # a package imports its own children by design (``__init__`` re-exports); a circle through a parent
+    # package's __init__ is one only if the child imports that __init__ back
+    state = {}
+
+    def visit(name, trail):
+        state[name] = "open"
+        for other in sorted(graph[name]):
+            if other and name.startswith(other + "."):
+                continue                               # a module's own parent package, imported first anyway
+            if state.get(other) == "open":
+                raise AssertionError("import circle: " + " -> ".join(trail + [other]))
+            if other not in state:
+                visit(other, trail + [other])
+        state[name] = "done"
+
+    for name in sorted(graph):
+        if name not in state:
+            visit(name, [name])
+
+
+def test_no_python_file_is_over_450_lines():
+    long = {str(path.relative_to(ROOT)): count for path in ROOT.rglob("*.py")
+            if ".venv" not in path.parts and "wheels" not in path.parts
+            for count in [len(path.read_text().splitlines())] if count > MAX_LINES}
+    assert not long, long
