@@ -8,14 +8,8 @@ visibility as Cycles computes it), or ``1 - d/max`` (``LINEAR``, the thesis'
 falloff), or ``1 - sqrt(d/max)`` (``OBSCURANCE``); hits beyond the maximum
 distance do not count.
 
-Ray casting goes through a *caster*: any object with
-``cast(origins (n,3), directions (n,3), max_distance) -> (distance (n,), facing (n,), sealed (n,))``
-where ``distance`` is ``inf`` for a miss, ``facing`` is the dot product of
-the hit face's normal with the ray (> 0: the ray hit a back face) and
-``sealed`` says whether the hit face belongs to a (nearly) closed piece
-(:mod:`.sealed`; the caster is built with that flag per triangle).
-:class:`BVHCaster` loops over ``mathutils.bvhtree.BVHTree.ray_cast``; the
-Blender side also has a batch caster on Geometry Nodes (multi-threaded).
+Rays are cast by a *caster* (:class:`.rays.RayCaster`), with the
+parameters of :class:`.rays.AOParams`, in the ray space of :func:`.rays.ray_space`.
 
 Robustness, all relative to the object's size:
 
@@ -40,127 +34,12 @@ not cast (:class:`..job.AOJob`).  Near an occlusion boundary some
 neighbour disagrees, so those texels always get every ray.
 """
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from .mesh import mesh_size
 from .sampling import cone_components, tangent_frames, texel_samples
 
-#: Ray origins are lifted this far (times the object size) off the surface.
-ORIGIN_OFFSET = 1.0e-5
 #: How many times a back-face hit is stepped through when back faces are ignored.
 BACKFACE_STEPS = 4
-
-
-@dataclass
-class AOParams:
-    """Ray settings in ray space (see :func:`ray_space`)."""
-
-    rays: int = 64
-    max_distance: float = 1.0
-    cone_angle: float = 90.0
-    falloff: str = "NONE"
-    distribution: str = "COSINE"
-    ignore_backfaces: bool = False
-    horizon_bias: float = 0.0
-    adaptive: bool = True
-    seed: int = 0
-    offset: float = 1.0e-5
-    ground_height: float = None
-
-    @property
-    def pilot_rays(self):
-        """Rays cast for every texel before the adaptive decision (a stratified prefix of the sequence)."""
-        return pilot_rays(self.rays, self.adaptive)
-
-
-def pilot_rays(rays, adaptive):
-    """Rays cast for every texel before the adaptive decision: a quarter, at least 16 (a stratified prefix)."""
-    return rays if not adaptive else min(rays, max(16, rays // 4))
-
-
-def ao_params(settings, positions, rays=None):
-    """:class:`AOParams` of a bake for an object whose vertices in ray space are ``positions`` (v, 3).
-
-    The object's size (bounding-box diagonal) sets the automatic maximum
-    distance (half of it) and the origin offset; the ground plane lies at the
-    lowest vertex.  ``settings`` is a :class:`..settings.BakeSettings`;
-    ``rays`` overrides its ray count.
-    """
-    size = mesh_size(positions)
-    return AOParams(
-        rays=settings.rays if rays is None else rays,
-        max_distance=0.5 * size if settings.auto_distance else settings.max_distance,
-        cone_angle=settings.cone_angle, falloff=settings.falloff, distribution=settings.distribution,
-        ignore_backfaces=settings.ignore_backfaces, horizon_bias=settings.horizon_bias,
-        adaptive=settings.adaptive, seed=settings.seed, offset=ORIGIN_OFFSET * size,
-        ground_height=float(np.min(positions[:, 2])) if settings.use_ground_plane else None)
-
-
-class BVHCaster:
-    """Ray caster over ``mathutils.bvhtree.BVHTree`` (a Python loop: about 0.5-0.8 M rays/s per core).
-
-    Parameters
-    ----------
-    positions : (v, 3) float
-    triangles : (t, 3) int
-    sealed : (t,) bool, optional, triangles of closed pieces (:mod:`.sealed`; none if not given)
-    """
-
-    name = "bvh-loop"
-
-    def __init__(self, positions, triangles, sealed=None):
-        from mathutils.bvhtree import BVHTree
-
-        positions = np.asarray(positions, dtype=np.float64)
-        triangles = np.asarray(triangles, dtype=np.int64)
-        self.tree = BVHTree.FromPolygons(positions.tolist(), triangles.tolist(), all_triangles=True)
-        self.sealed = np.zeros(len(triangles), dtype=bool) if sealed is None else np.asarray(sealed, dtype=bool)
-
-    def cast(self, origins, directions, max_distance):
-        from mathutils import Vector
-
-        count = len(origins)
-        distance = np.full(count, np.inf)
-        facing = np.zeros(count)
-        hit_face = np.full(count, -1, dtype=np.int64)
-        ray_cast = self.tree.ray_cast
-        for i, (origin, direction) in enumerate(zip(map(Vector, origins.tolist()), map(Vector, directions.tolist()))):
-            location, normal, face, hit_distance = ray_cast(origin, direction, max_distance)
-            if location is not None:
-                distance[i] = hit_distance
-                facing[i] = normal.dot(direction)
-                hit_face[i] = face
-        return distance, facing, (hit_face >= 0) & self.sealed[np.maximum(hit_face, 0)]
-
-
-def ray_space(positions, linear):
-    """The space rays are cast in: object shape as seen (its linear transform), centred.
-
-    Parameters
-    ----------
-    positions : (v, 3) float64, object space
-    linear : (3, 3) float64, the object's world matrix without translation
-
-    Returns
-    -------
-    centre : (3,) float64, object-space centre of the bounding box
-    to_ray : callable ``(points, normals) -> (points, normals)`` for (k, 3) arrays
-    """
-    linear = np.asarray(linear, dtype=np.float64)
-    centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0)) if len(positions) else np.zeros(3)
-    normal_matrix = np.linalg.inv(linear)            # row vectors: n' = n @ inv(L)  ==  inv(L)^T n
-
-    def to_ray(points, normals=None):
-        moved = (points - centre) @ linear.T
-        if normals is None:
-            return moved
-        turned = normals @ normal_matrix
-        length = np.linalg.norm(turned, axis=-1, keepdims=True)
-        return moved, turned / np.where(length > 0, length, 1.0)
-
-    return centre, to_ray
 
 
 def occlusion_of_hits(distance, params):
@@ -378,24 +257,3 @@ def settle_pilot(sums, params, pilot_count, neighbours=None, rays=None):
     return decided
 
 
-def shade(points, normals, geometric, texel_ids, params, caster, samples=texel_samples):
-    """AO of some points (all in ray space), each point deciding alone when to stop early.
-
-    (:class:`..job.AOJob` also asks a texel's neighbours before stopping.)
-
-    Returns
-    -------
-    ao : (k,) float32 in [0, 1]
-    rays_cast : int
-    """
-    pilot = np.arange(params.pilot_rays)
-    rest = np.arange(params.pilot_rays, params.rays)
-    total = occlusion_sums(points, normals, geometric, texel_ids, pilot, params, caster, samples)[0]
-    rays_cast = len(points) * len(pilot)
-    if len(rest):
-        todo = np.flatnonzero(~settle_pilot(total, params, len(pilot)))
-        total[todo] += occlusion_sums(points[todo], normals[todo], geometric[todo], texel_ids[todo], rest, params,
-                                      caster, samples)[0]
-        rays_cast += len(todo) * len(rest)
-    ao = 1.0 - total / params.rays
-    return np.clip(ao, 0.0, 1.0).astype(np.float32), rays_cast

@@ -1,5 +1,6 @@
-"""The rays of a bake, scheduled: :class:`AOJob` computes every texel's AO one batch per step.
+"""The rays of a bake, scheduled: :class:`AOJob` computes every target's AO one batch per step.
 
+Targets are the texels of a layout or free points (:mod:`.targets`).
 Batches are sized to take about :data:`STEP_SECONDS`, so a caller polling
 between steps (ESC in Blender's UI) never waits long; the adaptive stop asks
 each texel's atlas neighbours too (see :func:`.ao.settle_pilot`).
@@ -9,23 +10,20 @@ import time
 
 import numpy as np
 
-from .ao import buried, occlusion_sums, pilot_rays, settle_pilot
-from .grid import neighbour_values
-from .raster import texel_geometry
+from .ao import buried, occlusion_sums, settle_pilot
+from .rays import RayPart, pilot_rays
+from .targets import PointTargets
 
 #: Target duration of one :meth:`AOJob.step` (seconds).
 STEP_SECONDS = 0.3
 
 
-#: Rays of a texel seen with blend weight w: the full count for w > 1/2, half for w in (1/4, 1/2], ...,
-#: down to 1 / 2**MAX_RAY_HALVINGS of it (see :func:`ray_shares`).
-MAX_RAY_HALVINGS = 3
 #: No texel gets fewer rays than this when its share is cut.
 MIN_SHARED_RAYS = 4
 
 
 class AOJob:
-    """AO of every texel of a layout, computed one batch per :meth:`step`.
+    """AO of every target (the texels of a layout, or points), computed one batch per :meth:`step`.
 
     Two phases: the pilot rays for every texel, then the remaining rays for
     the texels that cannot stop early (see :mod:`.ao`: a texel stops when its
@@ -35,22 +33,15 @@ class AOJob:
     between batches.
 
     With ``weighted`` rays, a texel gets rays in proportion to the blend
-    weight it is shown with (:func:`ray_shares`): texels of one share form a
-    class with its own ray count and pilot, each a stratified prefix of the
-    same sequence.
+    weight it is shown with (:func:`.targets.ray_shares`): texels of one share
+    form a class with its own ray count and pilot, each a stratified prefix of
+    the same sequence.
 
     Parameters
     ----------
-    layout : Layout
-    parts : list of ``(params, caster, to_ray)``, one per input mesh
-        :class:`.ao.AOParams` (all with the same ray count), a caster (see
-        :mod:`.ao`), and the mapping to that mesh's ray space from
-        :func:`.ao.ray_space`.
+    targets : TexelTargets or PointTargets
+    parts : list of RayPart, one per input mesh (all with the same ray count)
     batch_rays : int
-    ray_rings : int
-        Padding rings that get rays of their own (bilinear filtering reads
-        only covered and near texels; farther rings are filled from their
-        neighbours by :func:`texel_image`, which is what mip-maps need).
     weighted : bool
 
     Attributes, when :attr:`finished`
@@ -63,31 +54,29 @@ class AOJob:
     ray_count : (n,) int, rays each texel was meant to get
     """
 
-    def __init__(self, layout, parts, batch_rays=1 << 19, ray_rings=1, weighted=False):
-        self.layout = layout
+    def __init__(self, targets, parts, batch_rays=1 << 19, weighted=False):
+        self.targets = targets
         self.parts = parts
-        texels = layout.texels
-        self.computed = texels.ring <= ray_rings
+        count = targets.count
+        self.computed = targets.computed
         self.total = int(self.computed.sum())
-        self.ao = np.zeros(len(texels), dtype=np.float32)
-        self.sums = np.zeros(len(texels), dtype=np.float64)
-        self.behind = np.zeros(len(texels), dtype=np.int64)     # rays that hit a back face
-        self.cast_count = np.zeros(len(texels), dtype=np.int64)  # rays cast
-        self.buried = np.zeros(len(texels), dtype=bool)
+        self.ao = np.zeros(count, dtype=np.float32)
+        self.sums = np.zeros(count, dtype=np.float64)
+        self.behind = np.zeros(count, dtype=np.int64)            # rays that hit a back face
+        self.cast_count = np.zeros(count, dtype=np.int64)        # rays cast
+        self.buried = np.zeros(count, dtype=bool)
         self.creased = False
         self.rays_cast = 0
         self.seconds = 0.0
-        self.params = parts[0][0]
+        self.params = parts[0].params
         self.batch_rays = batch_rays
-        selected = np.flatnonzero(self.computed)
-        # texels of one part together, in atlas order inside each part
-        selected = selected[np.lexsort((texels.index[selected], layout.part_of_texel(selected)))]
+        selected = targets.casting_order(np.flatnonzero(self.computed))
         halvings = np.zeros(len(selected), dtype=np.int64)
         if weighted:
-            halvings = ray_shares(layout, self.computed)[selected]
+            halvings = targets.shares(self.computed)[selected]
         rays = self.params.rays
-        self.ray_count = np.zeros(len(texels), dtype=np.int64)
-        self.pilot_count = np.zeros(len(texels), dtype=np.int64)
+        self.ray_count = np.zeros(count, dtype=np.int64)
+        self.pilot_count = np.zeros(count, dtype=np.int64)
         self.passes = []                     # [texels, ray indices], in casting order
         self.remaining = []                  # per class: (its texels, its ray indices after the pilot)
         for halving in np.unique(halvings):
@@ -119,16 +108,16 @@ class AOJob:
         queue, rays, where = self.passes[0]
         stop = self.position + max(1, self.batch_rays // max(len(rays), 1))
         batch = queue[self.position:stop]
-        part_of = self.layout.part_of_texel(batch)
+        part_of = self.targets.part_of(batch)
         for part in np.unique(part_of):
             selection = batch[part_of == part]
-            params, caster, to_ray = self.parts[part]
+            ray_part = self.parts[part]
             if where is None:
-                points, normals, geometric = self._ray_geometry(to_ray, selection)
+                points, normals, geometric = self._ray_geometry(ray_part, selection)
             else:                                    # given points, in ray space (the creases)
                 points, normals, geometric = (a[self.position:stop][part_of == part] for a in where)
-            sums, behind = occlusion_sums(
-                points, normals, geometric, self.layout.texels.index[selection], rays, params, caster)
+            sums, behind = occlusion_sums(points, normals, geometric, self.targets.ids[selection], rays,
+                                          ray_part.params, ray_part.caster)
             self.sums[selection] += sums
             self.behind[selection] += behind
             self.cast_count[selection] += len(rays)
@@ -169,43 +158,43 @@ class AOJob:
         self.creased = True
         computed = self.computed
         self.buried[computed] = buried(self.behind[computed], np.maximum(self.cast_count[computed], 1), self.params)
-        texels = self.layout.texels
-        rim, donor = buried_rim(texels, self.layout.atlas.member_chart[texels.member], self.buried, computed)
+        rim, donor = self.targets.rim(self.buried, computed)
         if not len(rim):
             return
-        part_of = self.layout.part_of_texel(rim)
-        order = np.lexsort((texels.index[rim], part_of))
+        part_of = self.targets.part_of(rim)
+        order = np.lexsort((self.targets.ids[rim], part_of))
         rim, donor, part_of = rim[order], donor[order], part_of[order]
         points = np.empty((len(rim), 3))
         normals, geometric = np.empty_like(points), np.empty_like(points)
         for part in np.unique(part_of):
             mine = np.flatnonzero(part_of == part)
-            params, caster, to_ray = self.parts[part]
-            own, normals[mine], geometric[mine] = self._ray_geometry(to_ray, rim[mine])
-            points[mine] = crease_points(*self._ray_geometry(to_ray, donor[mine]), own, params, caster)
+            ray_part = self.parts[part]
+            own, normals[mine], geometric[mine] = self._ray_geometry(ray_part, rim[mine])
+            points[mine] = crease_points(*self._ray_geometry(ray_part, donor[mine]), own, ray_part.params,
+                                         ray_part.caster)
         self.buried[rim] = False
         self.sums[rim] = 0.0
         self.ray_count[rim] = self.params.rays
         self.passes.append([rim, np.arange(self.params.rays), (points, normals, geometric)])
         self.work_expected = self.work_done + len(rim) * self.params.rays
 
-    def _ray_geometry(self, to_ray, selection):
-        """Point, shading normal and geometric normal (k, 3) of some texels, in their part's ray space."""
-        points, normals, geometric = texel_geometry(self.layout.texels, self.layout.atlas, self.layout.mesh,
-                                                    selection)
-        points, normals = to_ray(points, normals)
-        return points, normals, to_ray(points, geometric)[1]
+    def _ray_geometry(self, ray_part, selection):
+        """Point, shading normal and geometric normal (k, 3) of some targets, in their part's ray space."""
+        points, normals, geometric = self.targets.geometry(selection)
+        points, normals = ray_part.to_ray(points, normals)
+        return points, normals, ray_part.to_ray(points, geometric)[1]
 
     def _after_pilot(self):
         """Decide which texels stop early (all classes together); queue the rest for their remaining rays."""
         self.pilot = False
         selection = np.concatenate([members for members, _ in self.remaining])
         sums = self.sums[selection]
+        ask = self.targets.neighbours_agree
         decided = settle_pilot(sums, self.params, self.pilot_count[selection],
-                               neighbours=lambda code: neighbours_agree(self.layout.texels, selection, code),
+                               neighbours=None if ask is None else (lambda code: ask(selection, code)),
                                rays=self.ray_count[selection])
         self.sums[selection] = sums
-        stopped = np.zeros(len(self.layout.texels), dtype=bool)
+        stopped = np.zeros(self.targets.count, dtype=bool)
         stopped[selection[decided]] = True
         for members, rays in self.remaining:
             todo = members[~stopped[members]]
@@ -213,88 +202,6 @@ class AOJob:
                 self.passes.append([todo, rays, None])
         self.remaining = []
         self.work_expected = self.work_done + sum(len(todo) * len(rays) for todo, rays, _ in self.passes)
-
-
-def ray_shares(layout, computed):
-    """How many times each texel's ray count is halved (0..MAX_RAY_HALVINGS), from the weight it is shown with.
-
-    The node group shows a texel of a chart on axis a with weight n_a² (n the
-    unit shading normal), so its noise reaches the screen as w² σ² / N; for a
-    fixed number of rays the shown noise is least with N in proportion to w.
-    A texel's weight is taken as the largest over the corners of its member
-    triangle, the normalised mean of their normals (interpolation can lean
-    further toward the axis than any corner), and its 8 atlas neighbours:
-    so a texel never gets fewer rays than some point reading it would ask for.
-
-    Returns
-    -------
-    (n,) int64 per texel (0 where not ``computed``).
-    """
-    texels, atlas, mesh = layout.texels, layout.atlas, layout.mesh
-    axis = layout.charts.chart_axis[atlas.member_chart] // 2                 # (m,)
-    normals = mesh.corner_normals[atlas.member_triangle]                    # (m, 3, 3)
-    mean = normals.sum(axis=1)
-    candidates = np.concatenate([normals, mean[:, None]], axis=1)           # (m, 4, 3)
-    length2 = (candidates * candidates).sum(axis=2)
-    component2 = candidates[np.arange(len(axis)), :, axis] ** 2             # (m, 4)
-    member_weight = np.max(np.divide(component2, length2, out=np.ones_like(component2), where=length2 > 1e-24), axis=1)
-    weight = np.zeros(texels.width * texels.height)
-    weight[texels.index[computed]] = member_weight[texels.member[computed]]
-    texel_weight = weight[texels.index]
-    for other in neighbour_values(weight, texels.index, texels.width, texels.height, 0.0):
-        texel_weight = np.maximum(texel_weight, other)
-    halvings = np.floor(-np.log2(np.clip(texel_weight, 2.0 ** -MAX_RAY_HALVINGS, 1.0))).astype(np.int64)
-    return np.where(computed, np.clip(halvings, 0, MAX_RAY_HALVINGS), 0)
-
-
-#: Texels without a pilot result (empty or far padding) never veto a neighbour.
-_NO_VOTE = 3
-
-
-def neighbours_agree(texels, selection, code):
-    """True where every atlas neighbour (8-neighbourhood) of a texel has the same pilot code.
-
-    Parameters
-    ----------
-    texels : Texels
-    selection : (k,) indices into ``texels`` that have pilot results
-    code : (k,) int8 codes from :func:`.ao.pilot_agreement`
-    """
-    votes = np.full(texels.width * texels.height, _NO_VOTE, dtype=np.int8)
-    index = texels.index[selection]
-    votes[index] = code
-    agree = np.ones(len(selection), dtype=bool)
-    for other in neighbour_values(votes, index, texels.width, texels.height, _NO_VOTE):
-        agree &= (other == code) | (other == _NO_VOTE)
-    return agree
-
-
-def buried_rim(texels, chart_of_texel, buried_texel, computed):
-    """The buried texels beside a seen texel of their chart, each with one such neighbour.
-
-    Parameters
-    ----------
-    texels : Texels
-    chart_of_texel : (n,) int
-    buried_texel, computed : (n,) bool
-
-    Returns
-    -------
-    rim : (k,) int64, indices into ``texels``
-    neighbour : (k,) int64, a seen texel of the same chart among each one's 8 neighbours (the 4 sides
-        before the corners)
-    """
-    seen = computed & ~buried_texel
-    seen_texel = np.full(texels.width * texels.height, -1, dtype=np.int64)
-    seen_texel[texels.index[seen]] = np.flatnonzero(seen)
-    candidate = np.flatnonzero(buried_texel & computed)
-    neighbour = np.full(len(candidate), -1, dtype=np.int64)
-    for other in neighbour_values(seen_texel, texels.index[candidate], texels.width, texels.height, -1):
-        take = (neighbour < 0) & (other >= 0)
-        take[take] = chart_of_texel[other[take]] == chart_of_texel[candidate[take]]
-        neighbour[take] = other[take]
-    found = neighbour >= 0
-    return candidate[found], neighbour[found]
 
 
 def crease_points(near, near_normal, near_geometric, far, params, caster):
@@ -324,3 +231,24 @@ def crease_points(near, near_normal, near_geometric, far, params, caster):
     distance = caster.cast(start, direction, float(length.max()) if len(length) else 0.0)[0]
     travel = np.where(np.isfinite(distance) & (distance <= length), np.maximum(distance - params.offset, 0.0), 0.0)
     return start + direction * travel[:, None]
+
+
+def point_ao(points, normals, geometric, params, caster, ids=None):
+    """AO of free points in ray space, scheduled as a bake's texels are (:class:`AOJob`), without neighbours.
+
+    Parameters
+    ----------
+    points, normals, geometric : (k, 3) float64
+    params : AOParams
+    caster : RayCaster
+    ids : (k,) int, optional, stable ids (the per-point scramble; default 0..k-1)
+
+    Returns
+    -------
+    ao : (k,) float32 in [0, 1]
+    rays_cast : int
+    """
+    job = AOJob(PointTargets(points, normals, geometric, ids), [RayPart(params, caster)])
+    while not job.finished:
+        job.step()
+    return job.ao, job.rays_cast

@@ -1,7 +1,17 @@
-"""Where the AO will be stored: mesh -> charts -> atlas -> texels, chained and timed (:func:`build_layout`).
+"""A whole bake on arrays: meshes and a ray caster in, the AO image, the layout and the report's numbers out.
 
-Each step is also callable alone (see the modules); this module only orders
-them and times them.  The rays are :mod:`.job`'s, the finished image :mod:`.fill`'s.
+    pipeline = BakePipeline(meshes, matrices, settings, make_caster)
+    for fraction, message in pipeline.steps():      # one step per call: a modal operator polls between them
+        ...
+    result = pipeline.result                         # BakeResult
+
+    result = bake_arrays([mesh], settings=BakeSettings(rays=32))   # all steps at once, mathutils' BVH
+
+The steps: memory estimate, layout (charts, atlas, texels: :mod:`.layout`),
+each mesh's rays (:mod:`.rays`), the rays themselves in batches
+(:class:`.job.AOJob`), the noise estimate, the denoiser and the finished
+image.  The Blender side (``operators/adapters/session.py``) only reads the
+meshes, makes casters, and writes what :class:`BakeResult` holds.
 """
 
 import time
@@ -9,107 +19,156 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .adjacency import face_adjacency
-from .atlas import chart_plane_area, estimate_density, pack_charts
-from .clustering import cut_long_charts, make_injective, signed_axis_clusters
-from .errors import SeamlessAOError
-from .mesh import TriangleMesh, require_faces
-from .raster import rasterise
-
-#: Distant parts of one chart must stay this many texels apart (bilinear reads 1).
-SEPARATION_TEXELS = 3.0
-#: With a texel density given, charts longer than this many texels are cut.
-LONGEST_CHART_TEXELS = 1024
+from .ao import noise_bound
+from .budget import check_budget, planned_size
+from .denoise import denoise
+from .fill import texel_image
+from .job import AOJob
+from .layout import Layout, build_layout
+from .rays import BVHCaster, ray_part
+from .settings import BakeSettings
+from .targets import TexelTargets
 
 
 @dataclass
-class Layout:
-    """Everything about where AO is stored, before any ray is cast.
+class BakeResult:
+    """What a bake computed, before anything is written."""
 
-    Several meshes (objects baked together into one shared image) are one
-    combined mesh whose parts never share an edge or a chart:
-    ``part_of_triangle`` says which input mesh each triangle came from.
+    layout: Layout
+    image: np.ndarray              # (height, width) float32, the AO image in [0, 1]
+    texel_ao: np.ndarray           # (n,) float32, each texel's AO (denoised when asked)
+    computed: np.ndarray           # (n,) bool, texels that got rays of their own
+    buried: np.ndarray             # (n,) bool, computed texels inside another piece (never seen)
+    ray_count: np.ndarray          # (n,) int, rays each texel was meant to get
+    texels: int                    # texels that got rays
+    rays: int                      # rays cast
+    noise: float                   # ray noise before denoising (:func:`.ao.noise_bound`)
+    caster: str                    # the caster's name
+    timings: dict = field(default_factory=dict)     # seconds of each stage
+    warnings: list = field(default_factory=list)    # sentences for the user (the atlas')
+
+    @property
+    def layer_uv(self):
+        """(t, 3 layers, 3 corners, 2) float64: every triangle's UVs in AO_X, AO_Y and AO_Z."""
+        return self.layout.atlas.layer_uv()
+
+    def part_triangles(self, part):
+        """Slice of the combined mesh's triangles that came from input mesh ``part``."""
+        counts = np.bincount(self.layout.part_of_triangle, minlength=part + 1)
+        start = int(counts[:part].sum())
+        return slice(start, start + int(counts[part]))
+
+
+class BakePipeline:
+    """One bake on arrays, step by step (:meth:`steps`); :attr:`result` is set after the last step.
+
+    Parameters
+    ----------
+    meshes : list of TriangleMesh, in object space
+    matrices : list of (4, 4) float, each mesh's world matrix (what its rays see)
+    settings : BakeSettings
+    make_caster : callable ``(positions, triangles, sealed) -> RayCaster`` (:class:`.rays.BVHCaster`, or the
+        Blender side's Geometry Nodes caster)
+    occluders : callable ``(part, low, high, reach) -> iterable of (world positions, triangles)``, optional
+        Scene geometry near mesh ``part``, when the settings ask for scene occluders.
+    free_casters : callable ``(casters) -> None``, optional
+        Frees several casters at once (the Blender side removes all their datablocks in one call); by
+        default each caster's ``free()``.
     """
 
-    mesh: object
-    topology: object
-    charts: object
-    atlas: object
-    texels: object
-    part_of_triangle: np.ndarray = None
-    timings: dict = field(default_factory=dict)
+    def __init__(self, meshes, matrices, settings, make_caster, occluders=None, free_casters=None):
+        self.meshes = list(meshes)
+        self.matrices = [np.asarray(m, dtype=np.float64) for m in matrices]
+        self.settings = settings
+        self.make_caster = make_caster
+        self.occluders = occluders
+        self.free_casters = free_casters or _free_each
+        self.parts = []
+        self.result = None
 
-    def part_of_texel(self, selection=slice(None)):
-        """(k,) int: input mesh of each texel."""
-        return self.part_of_triangle[self.atlas.member_triangle[self.texels.member[selection]]]
+    def check_memory(self, layout=None):
+        """Refuse (:class:`.errors.SeamlessAOError`) a bake estimated to need more than the memory budget:
+        from the surface area before the layout, from the layout's texels and image after it."""
+        triangles = sum(len(m.triangles) for m in self.meshes)
+        if layout is None:
+            pixels, texels = planned_size(self.settings, sum(float(m.triangle_area.sum()) for m in self.meshes))
+        else:
+            pixels, texels = layout.atlas.width * layout.atlas.height, len(layout.texels)
+        check_budget(self.settings, triangles, pixels, texels)
+
+    def steps(self):
+        """Yield ``(fraction, message)`` after each step; the casters are freed however it ends."""
+        settings = self.settings
+        try:
+            self.check_memory()
+            yield 0.05, "Building charts and atlas"
+            layout = build_layout(
+                self.meshes, settings.compare_angle,
+                image_size=settings.image_size if settings.size_mode == "IMAGE_SIZE" else None,
+                density=settings.texel_density if settings.size_mode == "DENSITY" else None,
+                padding=settings.padding)
+            self.check_memory(layout)
+            yield 0.15, "Preparing rays"
+            for index, (mesh, matrix) in enumerate(zip(self.meshes, self.matrices)):
+                near = None
+                if self.occluders is not None and settings.use_scene_occluders:
+                    near = (lambda low, high, reach, index=index: self.occluders(index, low, high, reach))
+                self.parts.append(ray_part(mesh, matrix, settings, self.make_caster, near))
+            job = AOJob(TexelTargets(layout), self.parts, weighted=settings.weighted_rays)
+            while not job.finished:
+                fraction = job.step()
+                yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)
+            caster = self.parts[0].caster.name
+            self.free()
+            ao = job.ao
+            seen = job.computed & ~job.buried
+            noise = noise_bound(ao[seen], job.ray_count[seen])
+            if settings.denoise:
+                yield 0.95, "Denoising"
+                start = time.perf_counter()
+                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, seen, job.ray_count)
+                layout.timings["denoise"] = time.perf_counter() - start
+            self.result = BakeResult(
+                layout=layout, image=texel_image(layout.texels, ao, job.computed), texel_ao=ao,
+                computed=job.computed, buried=job.buried, ray_count=job.ray_count, texels=job.total,
+                rays=job.rays_cast, noise=noise, caster=caster, timings=dict(layout.timings, rays=job.seconds),
+                warnings=list(layout.atlas.warnings))
+        finally:
+            self.free()
+
+    def free(self):
+        """Free every caster made so far (safe to call twice)."""
+        self.free_casters([part.caster for part in self.parts])
+        self.parts = []
+
+    def run(self):
+        """All steps at once; returns the :class:`BakeResult`."""
+        for _ in self.steps():
+            pass
+        return self.result
 
 
-def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padding=4):
-    """Charts, atlas and texels for one or several meshes (one shared image).
+def _free_each(casters):
+    for caster in casters:
+        caster.free()
+
+
+def bake_arrays(meshes, matrices=None, settings=None, make_caster=BVHCaster, **overrides):
+    """Bake meshes given as arrays, all steps at once, with mathutils' BVH unless told otherwise.
 
     Parameters
     ----------
     meshes : TriangleMesh or list of TriangleMesh
-    compare_angle : float, degrees
-    image_size : int or None
-        Square image size (used when ``density`` is None).
-    density : float or None
-        Texels per object unit; overrides ``image_size``.
-    padding : int, texels
+    matrices : list of (4, 4) float, optional, world matrices (default: identity)
+    settings : BakeSettings, optional (default: the built-in defaults)
+    make_caster : callable, optional, ``(positions, triangles, sealed) -> RayCaster``
+    **overrides : any :class:`.settings.BakeSettings` field, e.g. ``rays=32``
 
     Returns
     -------
-    Layout
+    BakeResult
     """
-    meshes = [meshes] if isinstance(meshes, TriangleMesh) else list(meshes)
-    for mesh in meshes:
-        require_faces(mesh)
-    # Several meshes are one mesh of parts from here on: parts never weld, so they never share an edge
-    # or a chart, and each keeps tolerances relative to its own size.
-    mesh, offsets = TriangleMesh.concatenate(meshes) if len(meshes) > 1 else (
-        meshes[0], np.array([0, len(meshes[0].triangles)]))
-    timings = {}
-    start = time.perf_counter()
-    topology = face_adjacency(mesh)
-    charts = signed_axis_clusters(mesh, topology, compare_angle)
-    timings["charts"] = time.perf_counter() - start
-
-    start = time.perf_counter()
-    expected = density if density is not None else estimate_density(chart_plane_area(mesh, charts), image_size)
-    # One injectivity pass with a margin: it splits folds (what cluster_faces
-    # does) and also keeps distant parts of a chart a few texels apart, so
-    # filtering at a chart's edge never mixes in AO from another surface.
-    charts = make_injective(mesh, topology, charts, margin=SEPARATION_TEXELS / expected)
-    # no chart longer than a quarter of the image at the expected density (charts are never rotated)
-    longest = (image_size / 4 if density is None else LONGEST_CHART_TEXELS) / expected
-    charts = cut_long_charts(mesh, charts, longest)
-    timings["injectivity"] = time.perf_counter() - start
-    start = time.perf_counter()
-    atlas = pack_charts(mesh, topology, charts, padding=padding,
-                        image_size=None if density is not None else image_size, density=density)
-    charts = atlas.charts
-    timings["pack"] = time.perf_counter() - start
-
-    start = time.perf_counter()
-    texels = rasterise(atlas, mesh, padding=atlas.padding)
-    timings["rasterise"] = time.perf_counter() - start
-    if not len(texels):
-        raise SeamlessAOError("No texel landed on the mesh; raise the image size or texel density")
-    part = np.repeat(np.arange(len(meshes)), np.diff(offsets))
-    return Layout(mesh, topology, charts, atlas, texels, part, timings)
-
-
-def layer_lookup(atlas, mesh, triangle, bary):
-    """UV of surface points in the three layers.
-
-    Parameters
-    ----------
-    triangle : (k,) int
-    bary : (k, 3) float
-
-    Returns
-    -------
-    (k, 3, 2) float64: UV per layer (X, Y, Z).
-    """
-    uv = atlas.layer_uv()[triangle]                     # (k, 3 layers, 3 corners, 2)
-    return np.einsum("kc,klcd->kld", bary, uv)
+    meshes = [meshes] if not isinstance(meshes, (list, tuple)) else list(meshes)
+    matrices = [np.eye(4)] * len(meshes) if matrices is None else matrices
+    settings = (settings or BakeSettings()).replace(**overrides) if overrides else (settings or BakeSettings())
+    return BakePipeline(meshes, matrices, settings, make_caster).run()

@@ -30,7 +30,7 @@ from .grid import neighbour_texels, neighbour_values
 
 COVERED, NEAR, PADDING = 0, 1, 2
 #: Points on a triangle's rim move this far (times the object size) into it: twice
-#: the ray origins' lift (:data:`.ao.ORIGIN_OFFSET`), see :func:`_inset_rim_points`.
+#: the ray origins' lift (:data:`.rays.ORIGIN_OFFSET`), see :func:`_inset_rim_points`.
 RIM_INSET = 2.0e-5
 
 #: Rasterise at most this many candidate texels at once (bounds peak memory).

@@ -1,5 +1,6 @@
-"""Ray casters: a batch caster on Blender's Geometry Nodes Raycast node (multi-threaded), and
-:func:`ray_setup`, which gives a baked object its caster (that one or core's ``BVHCaster``).
+"""The Blender side of a bake's rays: a ray caster on Blender's Geometry Nodes Raycast node (multi-threaded),
+which core's :class:`~...core.rays.RayCaster` protocol describes, and :func:`caster_maker`, which picks it
+or core's ``BVHCaster`` for the settings.
 
 The rays of one batch become the vertices of a temporary point mesh with a
 ``ray_dir`` attribute; a node group casts them against a temporary occluder
@@ -8,17 +9,15 @@ mesh and stores hit distance and facing as attributes, read back with
 context override, so the user's scenes, objects and undo history are never
 touched; :meth:`NodesCaster.free` removes every datablock it made.
 
-Same interface as :class:`..core.ao.BVHCaster`; same BVH underneath (Blender's),
+Same interface as :class:`...core.rays.BVHCaster`; same BVH underneath (Blender's),
 but the node evaluates the rays on all cores.
 """
 
 import bpy
 import numpy as np
 
-from ...core.ao import BVHCaster, ao_params, ray_space
 from ...core.keys import TEMP_PREFIX
-from ...core.sealed import sealed_triangles
-from .mesh_data import mesh_boxes, scene_occluders
+from ...core.rays import BVHCaster
 
 
 
@@ -165,29 +164,7 @@ def free_casters(casters):
         bpy.data.batch_remove(datablocks)
 
 
-def ray_setup(ob, mesh, settings, scene, depsgraph, rays=None, boxes=None):
-    """AO parameters, caster and ray-space map for one object.
-
-    Ray space has the world's axes and scale (what the object looks like)
-    with the object's bounding-box centre at the origin, so positions stay
-    small for float32 BVHs even far from the world origin.  The caller frees
-    the caster (``caster.free()`` where it has one).  ``boxes``: the scene's
-    :func:`~.mesh_data.mesh_boxes`, when a bake of several objects has them.
-    """
-    matrix = np.array(ob.matrix_world, dtype=np.float64)
-    centre, to_ray = ray_space(mesh.positions, matrix[:3, :3])
-    own = to_ray(mesh.positions)
-    params = ao_params(settings, own, rays)
-    positions, triangles = [own], [mesh.triangles]
-    if settings.use_scene_occluders:
-        shift = matrix[:3, :3] @ centre + matrix[:3, 3]               # ray space + shift = world
-        low, high = own.min(axis=0) + shift, own.max(axis=0) + shift
-        boxes = boxes if boxes is not None else mesh_boxes(scene, depsgraph)
-        for world_positions, other_triangles in scene_occluders(boxes, depsgraph, ob, low, high,
-                                                                params.max_distance):
-            triangles.append(other_triangles + sum(len(p) for p in positions))
-            positions.append(world_positions - shift)
-    positions, triangles = np.concatenate(positions), np.concatenate(triangles)
-    caster = (BVHCaster if settings.ray_caster == "PYTHON_BVH" else NodesCaster)(
-        positions, triangles, sealed_triangles(positions, triangles))
-    return params, caster, to_ray
+def caster_maker(settings):
+    """What makes a bake's casters, ``(positions, triangles, sealed) -> caster``: the Geometry Nodes caster,
+    or core's Python loop over mathutils' BVH, as ``settings.ray_caster`` says."""
+    return BVHCaster if settings.ray_caster == "PYTHON_BVH" else NodesCaster

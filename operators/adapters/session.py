@@ -1,10 +1,11 @@
 """One bake, from Blender objects to written results: ``bake(objects, **settings) -> BakeReport``.
 
 The bake operator, the command line and pipeline scripts all go through
-:class:`BakeSession`, which reads the meshes, runs the core pipeline and only
-then writes into Blender data, in one transaction: if anything fails or the
-bake is cancelled, every mesh, UV map, material and image is left exactly as
-it was.
+:class:`BakeSession`, which reads the meshes, hands them to core's
+:class:`~...core.pipeline.BakePipeline` with a ray caster, and only then
+writes into Blender data, in one transaction: if anything fails or the bake
+is cancelled, every mesh, UV map, material and image is left exactly as it
+was.
 
     import bl_ext.user_default.seamless_ao as seamless_ao
     report = seamless_ao.bake([bpy.data.objects["Suzanne"]], rays=128, image_size=2048)
@@ -18,20 +19,25 @@ import time
 import bpy
 import numpy as np
 
-from ...core.ao import noise_bound
-from ...core.budget import check_budget, planned_size
-from ...core.denoise import denoise
 from ...core.errors import BakeCancelled
-from ...core.fill import texel_image
-from ...core.job import AOJob
 from ...core.keys import IMAGE_KEY
-from ...core.pipeline import build_layout
+from ...core.pipeline import BakePipeline
 from ...core.settings import BakeSettings
-from .casters import free_casters, ray_setup
+from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
-from .mesh_data import mesh_boxes, read_object
+from .mesh_data import mesh_boxes, read_object, scene_occluders
 from .scene_settings import settings_from
 from .writes import Transaction, image_file_path, save_image_file
+
+
+@dataclasses.dataclass
+class BakedObject:
+    """One object of a bake, as read: the object, its triangles' face corners (to write UVs back) and its world
+    matrix."""
+
+    ob: bpy.types.Object
+    loops: np.ndarray           # (t, 3) int64, the loop of each triangle corner
+    matrix: np.ndarray          # (4, 4) float64
 
 
 @dataclasses.dataclass
@@ -78,57 +84,35 @@ class BakeSession:
         self.settings = settings
         self.scene = scene or bpy.context.scene
         self.depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
-        self.casters = []
+        self.pipeline = None
         self.report = None
         self.started = time.perf_counter()
         check_objects(self.objects, settings)
 
-    # Each step is a generator stage; steps() chains them.
     def steps(self):
+        """Read, then core's pipeline step by step, then write; yields ``(fraction, message)``."""
         try:
             yield 0.0, "Reading meshes"
-            meshes, frames = self._read_meshes()
-            self._check_memory(meshes)
-            yield 0.05, "Building charts and atlas"
-            layout = build_layout(
-                meshes, self.settings.compare_angle,
-                image_size=self.settings.image_size if self.settings.size_mode == "IMAGE_SIZE" else None,
-                density=self.settings.texel_density if self.settings.size_mode == "DENSITY" else None,
-                padding=self.settings.padding)
-            self._check_memory(meshes, layout)
-            yield 0.15, "Preparing rays"
-            boxes = mesh_boxes(self.scene, self.depsgraph) if self.settings.use_scene_occluders else None
-            parts = [self._ray_part(frame, mesh, boxes) for frame, mesh in zip(frames, meshes)]
-            job = AOJob(layout, parts, weighted=self.settings.weighted_rays)
-            while not job.finished:
-                fraction = job.step()
-                yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)
-            ao_seconds = job.seconds
-            self._free_casters()
-            ao = job.ao
-            seen = job.computed & ~job.buried
-            noise = noise_bound(ao[seen], job.ray_count[seen])
-            if self.settings.denoise:
-                yield 0.95, "Denoising"
-                start = time.perf_counter()
-                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, seen, job.ray_count)
-                layout.timings["denoise"] = time.perf_counter() - start
+            meshes, self.baked = self._read_meshes()
+            self.pipeline = BakePipeline(meshes, [b.matrix for b in self.baked], self.settings,
+                                         caster_maker(self.settings), self._occluders(), free_casters)
+            yield from self.pipeline.steps()
+            result = self.pipeline.result
             yield 0.96, "Writing image, UV maps and materials"
             check_unchanged(self.objects, self.fingerprints)
-            image = texel_image(layout.texels, ao, job.computed)
-            warnings = list(layout.atlas.warnings) + self._write(layout, image)
-            timings = dict(layout.timings, rays=ao_seconds)
+            warnings = result.warnings + self._write(result)
+            layout = result.layout
             self.report = BakeReport(
                 objects=[ob.name for ob in self.objects], image=self.image_name, width=layout.atlas.width,
-                height=layout.atlas.height, texels=job.total, rays=job.rays_cast,
+                height=layout.atlas.height, texels=result.texels, rays=result.rays,
                 utilisation=layout.atlas.utilisation, density=layout.atlas.density, charts=layout.charts.count,
-                seconds=time.perf_counter() - self.started, timings=timings,
+                seconds=time.perf_counter() - self.started, timings=result.timings,
                 mesh_problems=layout.topology.report.problems(), warnings=warnings,
-                caster=parts[0][1].name, noise=noise)
+                caster=result.caster, noise=result.noise)
             store_stats(self.scene, self.report)
             yield 1.0, "Done"
         finally:
-            self._free_casters()
+            self.cancel()
 
     def run(self, should_cancel=None, progress=None):
         """All steps at once; returns the report (raises :class:`BakeCancelled` if asked to stop)."""
@@ -144,36 +128,31 @@ class BakeSession:
         return self.report
 
     def cancel(self):
-        self._free_casters()
+        """Free the casters (the pipeline's clean-up; nothing is written before the last step)."""
+        if self.pipeline is not None:
+            self.pipeline.free()
 
-    # -- stages ---------------------------------------------------------------
+    # -- reading ---------------------------------------------------------------
 
     def _read_meshes(self):
-        meshes, frames = [], []
+        meshes, baked = [], []
         for ob in self.objects:
             triangle_mesh, loops = read_object(ob, self.depsgraph)
             meshes.append(triangle_mesh)
-            frames.append((ob, loops, np.array(ob.matrix_world, dtype=np.float64)))
-        self.frames = frames
+            baked.append(BakedObject(ob, loops, np.array(ob.matrix_world, dtype=np.float64)))
         self.fingerprints = [mesh_fingerprint(ob) for ob in self.objects]
-        return meshes, frames
+        return meshes, baked
 
-    def _check_memory(self, meshes, layout=None):
-        triangles = sum(len(m.triangles) for m in meshes)
-        if layout is None:
-            pixels, texels = planned_size(self.settings, sum(float(m.triangle_area.sum()) for m in meshes))
-        else:
-            pixels, texels = layout.atlas.width * layout.atlas.height, len(layout.texels)
-        check_budget(self.settings, triangles, pixels, texels)
+    def _occluders(self):
+        """``(part, low, high, reach) -> geometry`` of the scene's other meshes near baked object ``part``
+        (the scene's bounding boxes read once, the first time they are asked for)."""
+        boxes = []
 
-    def _ray_part(self, frame, mesh, boxes):
-        params, caster, to_ray = ray_setup(frame[0], mesh, self.settings, self.scene, self.depsgraph, boxes=boxes)
-        self.casters.append(caster)
-        return params, caster, to_ray
-
-    def _free_casters(self):
-        free_casters(self.casters)
-        self.casters = []
+        def occluders(part, low, high, reach):
+            if not boxes:
+                boxes.append(mesh_boxes(self.scene, self.depsgraph))
+            return scene_occluders(boxes[0], self.depsgraph, self.objects[part], low, high, reach)
+        return occluders
 
     # -- writing ---------------------------------------------------------------
 
@@ -187,19 +166,17 @@ class BakeSession:
             joined = joined[:40] + "-" + hashlib.sha1(joined.encode()).hexdigest()[:8]
         return joined + "_AO"
 
-    def _write(self, layout, image_values):
+    def _write(self, result):
         """Image, UV maps, node group, materials: all or nothing."""
         transaction = Transaction()
         warnings = []
+        image_values = result.image
         try:
             image = transaction.image(self.default_image_name(), image_values)
             self.image_name = image.name
-            layer_uv = layout.atlas.layer_uv()
-            offsets = np.concatenate([[0], np.cumsum(np.bincount(layout.part_of_triangle,
-                                                                 minlength=len(self.objects)))])
-            for part, (ob, loops, _) in enumerate(self.frames):
-                part_uv = layer_uv[offsets[part]:offsets[part + 1]]
-                transaction.uv_maps(ob.data, loops, part_uv)
+            layer_uv = result.layer_uv
+            for part, baked in enumerate(self.baked):
+                transaction.uv_maps(baked.ob.data, baked.loops, layer_uv[result.part_triangles(part)])
             transaction.node_group()
             for ob in self.objects:
                 warnings += transaction.materials(ob, image, self.settings.hook_materials, self.objects)

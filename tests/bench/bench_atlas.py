@@ -19,7 +19,7 @@ import real_assets  # noqa: E402
 from bench_clustering import bumpy_sphere  # noqa: E402
 from seamless_ao.core import packing  # noqa: E402
 from seamless_ao.core.mesh import TriangleMesh  # noqa: E402
-from seamless_ao.core.pipeline import build_layout  # noqa: E402
+from seamless_ao.core.layout import build_layout  # noqa: E402
 
 #: Issue 13's targets for charts + pack + rasterise (seconds), by triangle count.
 TARGETS = {250_000: 1.0, 1_000_000: 4.0}

@@ -32,7 +32,8 @@ from cycles_baseline import UV_NAME, cycles_ao_bake  # noqa: E402
 from seamless_ao.core import ao as ao_module  # noqa: E402
 from seamless_ao.core.sampling import cone_directions, tangent_frames  # noqa: E402
 from seamless_ao.core.settings import BakeSettings  # noqa: E402
-from seamless_ao.operators.adapters.casters import ray_setup  # noqa: E402
+from seamless_ao.core.rays import ray_part  # noqa: E402
+from seamless_ao.operators.adapters.casters import caster_maker  # noqa: E402
 from seamless_ao.operators.adapters.mesh_data import read_triangles  # noqa: E402
 
 PACKAGE = sys.modules["seamless_ao"]
@@ -41,7 +42,8 @@ PACKAGE = sys.modules["seamless_ao"]
 def estimator_at_points(ob, mesh, triangle, bary, normals, rays, mirror):
     """Seamless AO's own estimator at surface points (no atlas, no texture), rays mirrored or not."""
     settings = BakeSettings(rays=rays, adaptive=False)
-    params, caster, to_ray = ray_setup(ob, mesh, settings, bpy.context.scene, bpy.context.evaluated_depsgraph_get())
+    part = ray_part(mesh, np.array(ob.matrix_world), settings, caster_maker(settings))
+    params, caster, to_ray = part.params, part.caster, part.to_ray
     original = ao_module.ray_directions
 
     def unmirrored(normals, geometric, texel_ids, ray_indices, params, samples=ao_module.texel_samples):
@@ -66,7 +68,7 @@ def estimator_at_points(ob, mesh, triangle, bary, normals, rays, mirror):
         return out
     finally:
         ao_module.ray_directions = original
-        getattr(caster, "free", lambda: None)()
+        caster.free()
 
 
 def main():

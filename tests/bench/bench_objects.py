@@ -4,7 +4,7 @@
 
 ``--objects`` boxes of random proportions (48 triangles each), each in its own
 object space as Blender hands them over, laid out together at 1024²
-(``core.pipeline.build_layout``).  Prints the median seconds of each stage
+(``core.layout.build_layout``).  Prints the median seconds of each stage
 over ``--runs`` layouts after an untimed first one.  The objects are
 concatenated before clustering (one pass for all), so the per-object Python
 overhead of clustering and injectivity is gone.
@@ -27,7 +27,7 @@ import numpy as np
 import meshes
 import package
 from seamless_ao.core.mesh import TriangleMesh
-from seamless_ao.core.pipeline import build_layout
+from seamless_ao.core.layout import build_layout
 
 
 def boxes(count, seed=0):

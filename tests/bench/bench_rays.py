@@ -23,8 +23,9 @@ import bpy
 
 import package
 from blender_scenes import suzanne
-from seamless_ao.core.ao import AOParams, BVHCaster, occlusion_sums, ray_space
-from seamless_ao.core.pipeline import build_layout
+from seamless_ao.core.ao import occlusion_sums
+from seamless_ao.core.rays import AOParams, BVHCaster, ray_space
+from seamless_ao.core.layout import build_layout
 from seamless_ao.core.raster import texel_geometry
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 from seamless_ao.operators.adapters.casters import NodesCaster
@@ -60,8 +61,7 @@ def main():
                        np.arange(64), params, caster)
         full = len(points[subset]) * 64 / (time.perf_counter() - start)
         rows.append([name, "{:.2f}".format(raw / 1e6), "{:.2f}".format(full / 1e6)])
-        if hasattr(caster, "free"):
-            caster.free()
+        caster.free()
         print("measured:", name, file=sys.stderr, flush=True)
     start = time.perf_counter()
     report = package.seamless_ao.bake([ob], image_size=1024, rays=64)

@@ -5,7 +5,7 @@ import pytest
 
 from blender_scenes import suzanne
 from layout_checks import check_layers_do_not_overlap, check_lookups, check_texels_finite
-from seamless_ao.core.pipeline import build_layout
+from seamless_ao.core.layout import build_layout
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ from blender_checks import image_array, uv_layer_array
 from blender_scenes import add_object, mesh_from_arrays, mesh_from_faces
 from package import seamless_ao
 from hard_meshes import HARD_MESHES
-from seamless_ao.core.pipeline import build_layout
+from seamless_ao.core.layout import build_layout
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 SETTINGS = dict(image_size=512, rays=32)
@@ -196,14 +196,16 @@ def test_texels_of_a_transformed_object_get_the_ao_of_the_object_in_the_scene(na
     from plain_reference import plain_ao
     from seamless_ao.core.ao import occlusion_sums
     from seamless_ao.core.raster import texel_geometry
+    from seamless_ao.core.rays import ray_part
     from seamless_ao.core.settings import BakeSettings
-    from seamless_ao.operators.adapters.casters import ray_setup
+    from seamless_ao.operators.adapters.casters import caster_maker
 
     ob, mesh, loops, to_world = transformed_torus(name)
     world, _ = to_world(mesh.positions)
     max_distance = 0.5 * float(np.linalg.norm(world.max(axis=0) - world.min(axis=0)))
     settings = BakeSettings(rays=512, auto_distance=False, max_distance=max_distance, adaptive=False)
-    params, caster, to_ray = ray_setup(ob, mesh, settings, bpy.context.scene, bpy.context.evaluated_depsgraph_get())
+    part = ray_part(mesh, np.array(ob.matrix_world), settings, caster_maker(settings))
+    params, caster, to_ray = part.params, part.caster, part.to_ray
     layout = build_layout(mesh, image_size=256)
     texels = np.random.default_rng(2).choice(np.flatnonzero(layout.texels.ring == 0), 200, replace=False)
     points, normals, geometric = texel_geometry(layout.texels, layout.atlas, mesh, texels)
@@ -213,7 +215,7 @@ def test_texels_of_a_transformed_object_get_the_ao_of_the_object_in_the_scene(na
         ours = 1.0 - occlusion_sums(ray_points, ray_normals, ray_geometric, texels, np.arange(params.rays),
                                     params, caster)[0] / params.rays
     finally:
-        getattr(caster, "free", lambda: None)()
+        caster.free()
     world_points, world_normals = to_world(points, normals)
     reference = plain_ao(world, mesh.triangles, world_points, world_normals, to_world(points, geometric)[1],
                          max_distance, rays=2048, seed=4)

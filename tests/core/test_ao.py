@@ -3,10 +3,21 @@
 import numpy as np
 import pytest
 
-from seamless_ao.core.ao import AOParams, BVHCaster, noise_bound, shade
+from seamless_ao.core.ao import noise_bound, occlusion_sums
+from seamless_ao.core.job import point_ao
+from seamless_ao.core.rays import AOParams, BVHCaster
 from seamless_ao.core.sampling import cone_directions, random_samples, sobol_2d, texel_samples
 
 BIG = 1000.0
+
+
+def shade(points, normals, geometric, ids, params, caster, samples=None):
+    """AO of points as a bake computes it (:func:`point_ao`: pilot rays, the adaptive stop, the rest), or,
+    with other ``samples`` than the bake's (to compare sequences), every ray of those samples."""
+    if samples is None:
+        return point_ao(points, normals, geometric, params, caster, ids)
+    sums = occlusion_sums(points, normals, geometric, ids, np.arange(params.rays), params, caster, samples)[0]
+    return np.clip(1.0 - sums / params.rays, 0.0, 1.0).astype(np.float32), len(points) * params.rays
 
 
 def quads(*quads_):

@@ -7,7 +7,7 @@ import meshes
 from layout_checks import check_layers_do_not_overlap, check_lookups, check_texels_finite
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.mesh import TriangleMesh
-from seamless_ao.core.pipeline import build_layout
+from seamless_ao.core.layout import build_layout
 from seamless_ao.core.raster import COVERED
 
 

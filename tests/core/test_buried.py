@@ -4,8 +4,10 @@ their rays, and the rim of a buried region shaded again at the crease."""
 import numpy as np
 
 import meshes
-from seamless_ao.core.ao import AOParams, BVHCaster, buried, occlusion_sums
-from seamless_ao.core.job import buried_rim, crease_points
+from seamless_ao.core.ao import buried, occlusion_sums
+from seamless_ao.core.job import crease_points
+from seamless_ao.core.rays import AOParams, BVHCaster
+from seamless_ao.core.targets import buried_rim
 from seamless_ao.core.raster import Texels
 from seamless_ao.core.sealed import MAX_OPENING, exact_weld, sealed_triangles
 

@@ -143,7 +143,7 @@ def test_deterministic():
 def test_n_gon_faces_stay_whole():
     """Triangles of one polygon share their loops, so they must share their UVs: wherever two triangles of
     one face meet at a vertex, the layout gives that corner the same UV in every layer."""
-    from seamless_ao.core.pipeline import build_layout
+    from seamless_ao.core.layout import build_layout
     positions, triangles = meshes.uv_sphere(rings=12, segments=24)
     face = np.arange(len(triangles)) // 2          # pair triangles into quads-ish faces
     normals = np.repeat(positions[triangles].mean(axis=1, keepdims=True), 3, axis=1)
@@ -164,7 +164,7 @@ def test_meshes_baked_together_never_weld_and_keep_their_own_tolerances():
     coincide (two boxes in their own object spaces overlap exactly), and a millimetre part beside a
     kilometre part keeps its own weld tolerance (one of the large part's would weld the small one's
     vertices into a point)."""
-    from seamless_ao.core.pipeline import build_layout
+    from seamless_ao.core.layout import build_layout
     box = TriangleMesh.from_triangles(*meshes.box(subdivisions=2))
     tiny = TriangleMesh.from_triangles(*meshes.box(size=(1e-3, 1e-3, 1e-3), subdivisions=2))
     huge = TriangleMesh.from_triangles(*meshes.box(size=(1e3, 1e3, 1e3), subdivisions=2))

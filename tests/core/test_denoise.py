@@ -9,7 +9,7 @@ from seamless_ao.core.denoise import denoise
 def synthetic(mesh_positions, triangles, truth, rays, seed=0):
     """A layout of a mesh, per-texel values = truth(point) + binomial-like noise for ``rays`` rays."""
     from seamless_ao.core.mesh import TriangleMesh
-    from seamless_ao.core.pipeline import build_layout
+    from seamless_ao.core.layout import build_layout
     from seamless_ao.core.raster import texel_geometry
     mesh = TriangleMesh.from_triangles(mesh_positions, triangles)
     layout = build_layout(mesh, image_size=256)

@@ -4,12 +4,14 @@ import numpy as np
 import pytest
 
 import meshes
-from seamless_ao.core.ao import AOParams, BVHCaster, ray_space
 from seamless_ao.core.blend import blend_weights
-from seamless_ao.core.job import MAX_RAY_HALVINGS, MIN_SHARED_RAYS, AOJob, ray_shares
+from seamless_ao.core.job import MIN_SHARED_RAYS, AOJob
 from seamless_ao.core.mesh import TriangleMesh
-from seamless_ao.core.pipeline import build_layout
+from seamless_ao.core.layout import build_layout
 from seamless_ao.core.raster import texel_geometry
+from seamless_ao.core.rays import BVHCaster, ray_part
+from seamless_ao.core.settings import BakeSettings
+from seamless_ao.core.targets import MAX_RAY_HALVINGS, TexelTargets, ray_shares
 
 
 @pytest.fixture(scope="module")
@@ -19,12 +21,12 @@ def torus_layout():
 
 
 def run(layout, rays, weighted, adaptive=False):
-    _, to_ray = ray_space(layout.mesh.positions, np.eye(3))
-    caster = BVHCaster(to_ray(layout.mesh.positions), layout.mesh.triangles)
-    # lying on a ground plane: its lower half is well occluded
-    params = AOParams(rays=rays, max_distance=3.0, adaptive=adaptive, offset=1e-5,
-                      ground_height=float(to_ray(layout.mesh.positions)[:, 2].min()))
-    job = AOJob(layout, [(params, caster, to_ray)], weighted=weighted)
+    """The bake's own schedule of rays for the layout's texels (the ray setup as core/pipeline.py makes it),
+    the torus lying on a ground plane, so its lower half is well occluded."""
+    settings = BakeSettings(rays=rays, adaptive=adaptive, auto_distance=False, max_distance=3.0,
+                            use_ground_plane=True)
+    part = ray_part(layout.mesh, np.eye(4), settings, BVHCaster)
+    job = AOJob(TexelTargets(layout), [part], weighted=weighted)
     while not job.finished:
         job.step()
     return job

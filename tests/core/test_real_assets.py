@@ -13,7 +13,7 @@ import pytest
 import real_assets
 from seamless_ao.core.mesh import TriangleMesh
 from seamless_ao.core.packing import Packer
-from seamless_ao.core.pipeline import build_layout, layer_lookup
+from seamless_ao.core.layout import build_layout, layer_lookup
 from seamless_ao.core.raster import texel_geometry
 from layout_checks import random_surface_points, texel_table
 

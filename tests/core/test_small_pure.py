@@ -7,13 +7,14 @@ import zlib
 import numpy as np
 import pytest
 
-from seamless_ao.core.ao import AOParams, ao_params, settle_pilot
+from seamless_ao.core.ao import settle_pilot
 from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import vertex_average
 from seamless_ao.core.graph import sort_order
 from seamless_ao.core.overlap import candidate_pairs, segment_distance
 from seamless_ao.core.png import png16
+from seamless_ao.core.rays import AOParams, ao_params
 from seamless_ao.core.settings import BakeSettings, ExportSettings
 
 

@@ -28,7 +28,7 @@ SUPPORT = HERE.parents[1] / "support"
 
 
 def load(root):
-    """The add-on in ``root`` as the package ``seamless_ao``."""
+    """The add-on in ``root`` as the package ``seamless_ao`` (its own loader: an older tree may have none)."""
     spec = importlib.util.spec_from_file_location("seamless_ao", root / "__init__.py",
                                                   submodule_search_locations=[str(root)])
     package = importlib.util.module_from_spec(spec)
@@ -38,6 +38,7 @@ def load(root):
 
 
 def mesh_object(bpy, name, positions, triangles, smooth=False):
+    """A mesh object of arrays (not the tests' own helper, which imports this tree's add-on)."""
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata([tuple(map(float, p)) for p in positions], [], [tuple(map(int, t)) for t in triangles])
     mesh.validate()

@@ -6,7 +6,7 @@ import numpy as np
 from seamless_ao.core.adjacency import face_adjacency
 from seamless_ao.core.clustering import AXES, SAME_SURFACE, cluster_faces, triangle_chart_geometry
 from seamless_ao.core.overlap import candidate_pairs, overlapping_triangles, separated
-from seamless_ao.core.pipeline import layer_lookup
+from seamless_ao.core.layout import layer_lookup
 from seamless_ao.core.raster import COVERED, texel_geometry
 
 

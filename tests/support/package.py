@@ -38,11 +38,11 @@ def load_package(name=NAME):
         for module_name in [n for n in sys.modules if n == installed or n.startswith(installed + ".")]:
             sys.modules[name + module_name[len(installed):]] = sys.modules[module_name]
         return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, ROOT / "__init__.py", submodule_search_locations=[str(ROOT)])
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    spec.loader.exec_module(module)
-    return module
+    # the product's own loader (operators/standalone/launch.py), itself loaded by path: it is not in a package yet
+    spec = importlib.util.spec_from_file_location("seamless_ao_launch", LAUNCHER)
+    launch = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(launch)
+    return launch.load_package(name)
 
 
 seamless_ao = load_package()

@@ -1,0 +1,202 @@
+"""The rays of one baked mesh: their parameters, the space they are cast in, and the caster that casts them.
+
+Everything here is the bpy-free half of a bake's ray setup; the Blender side
+only reads scene occluders and makes its Geometry Nodes caster
+(``operators/adapters/casters.py``).
+
+A *caster* is any object of the :class:`RayCaster` protocol:
+``cast(origins (n, 3), directions (n, 3), max_distance) -> (distance (n,), facing (n,), sealed (n,))``,
+``distance`` ``inf`` for a miss, ``facing`` the dot product of the hit face's
+normal with the ray (> 0: the ray hit a back face), ``sealed`` whether the hit
+face belongs to a (nearly) closed piece (:mod:`.sealed`); and ``free()``.
+:class:`BVHCaster` loops over ``mathutils.bvhtree.BVHTree.ray_cast``.
+"""
+
+from dataclasses import dataclass
+from typing import Callable, Protocol
+
+import numpy as np
+
+from .mesh import mesh_size
+from .sealed import sealed_triangles
+
+#: Ray origins are lifted this far (times the object size) off the surface.
+ORIGIN_OFFSET = 1.0e-5
+
+
+@dataclass
+class AOParams:
+    """Ray settings in ray space (see :func:`ray_space`)."""
+
+    rays: int = 64
+    max_distance: float = 1.0
+    cone_angle: float = 90.0
+    falloff: str = "NONE"
+    distribution: str = "COSINE"
+    ignore_backfaces: bool = False
+    horizon_bias: float = 0.0
+    adaptive: bool = True
+    seed: int = 0
+    offset: float = 1.0e-5
+    ground_height: float = None
+
+    @property
+    def pilot_rays(self):
+        """Rays cast for every texel before the adaptive decision (a stratified prefix of the sequence)."""
+        return pilot_rays(self.rays, self.adaptive)
+
+
+def pilot_rays(rays, adaptive):
+    """Rays cast for every texel before the adaptive decision: a quarter, at least 16 (a stratified prefix)."""
+    return rays if not adaptive else min(rays, max(16, rays // 4))
+
+
+def ao_params(settings, positions, rays=None):
+    """:class:`AOParams` of a bake for an object whose vertices in ray space are ``positions`` (v, 3).
+
+    The object's size (bounding-box diagonal) sets the automatic maximum
+    distance (half of it) and the origin offset; the ground plane lies at the
+    lowest vertex.  ``settings`` is a :class:`..settings.BakeSettings`;
+    ``rays`` overrides its ray count.
+    """
+    size = mesh_size(positions)
+    return AOParams(
+        rays=settings.rays if rays is None else rays,
+        max_distance=0.5 * size if settings.auto_distance else settings.max_distance,
+        cone_angle=settings.cone_angle, falloff=settings.falloff, distribution=settings.distribution,
+        ignore_backfaces=settings.ignore_backfaces, horizon_bias=settings.horizon_bias,
+        adaptive=settings.adaptive, seed=settings.seed, offset=ORIGIN_OFFSET * size,
+        ground_height=float(np.min(positions[:, 2])) if settings.use_ground_plane else None)
+
+
+class RayCaster(Protocol):
+    """What casts a bake's rays (:class:`BVHCaster`, the Blender side's Geometry Nodes caster)."""
+
+    name: str
+
+    def cast(self, origins, directions, max_distance):
+        """``origins``, ``directions`` (n, 3) float64 -> ``distance`` (n,), ``facing`` (n,), ``sealed`` (n,) bool."""
+
+    def free(self):
+        """Let go of what the caster holds (safe to call twice)."""
+
+
+class BVHCaster:
+    """Ray caster over ``mathutils.bvhtree.BVHTree`` (a Python loop: about 0.5-0.8 M rays/s per core).
+
+    Parameters
+    ----------
+    positions : (v, 3) float
+    triangles : (t, 3) int
+    sealed : (t,) bool, optional, triangles of closed pieces (:mod:`.sealed`; none if not given)
+    """
+
+    name = "bvh-loop"
+
+    def __init__(self, positions, triangles, sealed=None):
+        from mathutils.bvhtree import BVHTree
+
+        positions = np.asarray(positions, dtype=np.float64)
+        triangles = np.asarray(triangles, dtype=np.int64)
+        self.tree = BVHTree.FromPolygons(positions.tolist(), triangles.tolist(), all_triangles=True)
+        self.sealed = np.zeros(len(triangles), dtype=bool) if sealed is None else np.asarray(sealed, dtype=bool)
+
+    def cast(self, origins, directions, max_distance):
+        from mathutils import Vector
+
+        count = len(origins)
+        distance = np.full(count, np.inf)
+        facing = np.zeros(count)
+        hit_face = np.full(count, -1, dtype=np.int64)
+        ray_cast = self.tree.ray_cast
+        for i, (origin, direction) in enumerate(zip(map(Vector, origins.tolist()), map(Vector, directions.tolist()))):
+            location, normal, face, hit_distance = ray_cast(origin, direction, max_distance)
+            if location is not None:
+                distance[i] = hit_distance
+                facing[i] = normal.dot(direction)
+                hit_face[i] = face
+        return distance, facing, (hit_face >= 0) & self.sealed[np.maximum(hit_face, 0)]
+
+    def free(self):
+        self.tree = None
+
+
+def ray_space(positions, linear):
+    """The space rays are cast in: object shape as seen (its linear transform), centred.
+
+    Parameters
+    ----------
+    positions : (v, 3) float64, object space
+    linear : (3, 3) float64, the object's world matrix without translation
+
+    Returns
+    -------
+    centre : (3,) float64, object-space centre of the bounding box
+    to_ray : callable ``(points, normals) -> (points, normals)`` for (k, 3) arrays
+    """
+    linear = np.asarray(linear, dtype=np.float64)
+    centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0)) if len(positions) else np.zeros(3)
+    normal_matrix = np.linalg.inv(linear)            # row vectors: n' = n @ inv(L)  ==  inv(L)^T n
+
+    def to_ray(points, normals=None):
+        moved = (points - centre) @ linear.T
+        if normals is None:
+            return moved
+        turned = normals @ normal_matrix
+        length = np.linalg.norm(turned, axis=-1, keepdims=True)
+        return moved, turned / np.where(length > 0, length, 1.0)
+
+    return centre, to_ray
+
+
+def same_space(points, normals=None):
+    """The identity map of :func:`ray_space`'s ``to_ray``, for points already in ray space."""
+    return points if normals is None else (points, normals)
+
+
+@dataclass
+class RayPart:
+    """The rays of one input mesh of a bake: their parameters, their caster, and the map from the mesh's
+    object space to the ray space they are cast in."""
+
+    params: AOParams
+    caster: RayCaster
+    to_ray: Callable = same_space
+
+
+#: ``occluders(low (3,), high (3,), reach) -> iterable of (world positions (v, 3), triangles (t, 3))``: the
+#: scene geometry within ``reach`` of the world box ``low``..``high`` (the Blender side reads it).
+Occluders = Callable
+
+
+def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
+    """The :class:`RayPart` of one mesh of a bake.
+
+    Ray space has the world's axes and scale (what the object looks like) with
+    the mesh's bounding-box centre at the origin, so positions stay small for
+    float32 BVHs even far from the world origin.  The caster is made from the
+    mesh in ray space, plus what ``occluders`` gives within the maximum ray
+    distance, and which triangles belong to sealed pieces (:mod:`.sealed`).
+
+    Parameters
+    ----------
+    mesh : TriangleMesh
+    matrix : (4, 4) float, the object's world matrix
+    settings : BakeSettings
+    make_caster : callable ``(positions, triangles, sealed) -> RayCaster``
+    occluders : Occluders, optional (scene occluders, when the settings ask for them)
+    rays : int, optional, overrides the settings' ray count
+    """
+    matrix = np.asarray(matrix, dtype=np.float64)
+    centre, to_ray = ray_space(mesh.positions, matrix[:3, :3])
+    own = to_ray(mesh.positions)
+    params = ao_params(settings, own, rays)
+    positions, triangles = [own], [mesh.triangles]
+    if occluders is not None:
+        shift = matrix[:3, :3] @ centre + matrix[:3, 3]               # ray space + shift = world
+        low, high = own.min(axis=0) + shift, own.max(axis=0) + shift
+        for world_positions, other_triangles in occluders(low, high, params.max_distance):
+            triangles.append(other_triangles + sum(len(p) for p in positions))
+            positions.append(world_positions - shift)
+    positions, triangles = np.concatenate(positions), np.concatenate(triangles)
+    return RayPart(params, make_caster(positions, triangles, sealed_triangles(positions, triangles)), to_ray)

@@ -1,0 +1,76 @@
+"""The whole bake on arrays (core/pipeline.py): meshes and mathutils' BVH in, an image that shows the AO the
+plain reference computes out, with no Blender data at all."""
+
+import numpy as np
+
+import meshes
+from accuracy import P99_LIMIT, RMSE_LIMIT, errors
+from plain_reference import plain_ao, visible_points
+from seamless_ao.core.blend import blended_ao
+from seamless_ao.core.layout import layer_lookup
+from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.pipeline import BakePipeline, bake_arrays
+from seamless_ao.core.rays import BVHCaster
+from seamless_ao.core.settings import BakeSettings
+
+
+def ring_on_a_floor():
+    """A smooth torus lying on a floor slab, as one mesh of two pieces."""
+    ring, ring_triangles = meshes.torus(rings=40, segments=20)
+    ring = ring + [0.0, 0.0, 0.36]
+    floor, floor_triangles = meshes.box(size=(4.0, 4.0, 0.1), center=(0.0, 0.0, -0.05), subdivisions=4)
+    positions = np.vstack([ring, floor])
+    triangles = np.vstack([ring_triangles, floor_triangles + len(ring)])
+    return TriangleMesh.from_triangles(positions, triangles, smooth=True)
+
+
+def shown_at_visible_points(result, mesh, count=400):
+    """What the node group shows (core/blend.py) at random visible points, and those points' normals."""
+    triangle, bary, points = visible_points(mesh.positions, mesh.triangles, count, seed=11)
+    normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    shown = blended_ao(result.image.astype(np.float64), layer_lookup(result.layout.atlas, mesh, triangle, bary),
+                       normals)
+    return shown, points, normals, triangle
+
+
+def test_the_whole_bake_from_arrays_with_mathutils_bvh_shows_the_plain_reference():
+    mesh = ring_on_a_floor()
+    result = bake_arrays(mesh, rays=32, image_size=256, make_caster=BVHCaster)
+    assert result.image.shape == (256, 256) and result.caster == BVHCaster.name
+    assert np.isfinite(result.image).all() and 0.0 <= result.image.min() <= result.image.max() <= 1.0
+    assert np.isfinite(result.layer_uv).all()
+    assert result.texels == int(result.computed.sum()) > 0 and result.rays >= result.texels * 16
+    shown, points, normals, triangle = shown_at_visible_points(result, mesh)
+    max_distance = 0.5 * float(np.linalg.norm(np.ptp(mesh.positions, axis=0)))
+    reference = plain_ao(mesh.positions, mesh.triangles, points, normals, mesh.triangle_normal[triangle],
+                         max_distance, rays=1024, seed=5)
+    assert reference.min() < 0.6                                       # the ring darkens the floor beneath it
+    rmse, p99 = errors(shown, reference)
+    assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (rmse, p99)
+
+
+def test_parts_keep_their_triangles_and_see_what_the_occluders_give():
+    """Two meshes baked together: each keeps its own slice of the layout, and the floor is darker under the
+    ring only when the occluders callback hands it the ring (the Blender side's scene occluders)."""
+    ring = TriangleMesh.from_triangles(*meshes.torus(rings=32, segments=16), smooth=True)
+    floor = TriangleMesh.from_triangles(*meshes.box(size=(4.0, 4.0, 0.1), subdivisions=4))
+    lift, drop = np.eye(4), np.eye(4)
+    lift[2, 3], drop[2, 3] = 0.36, -0.05
+    asked = []
+
+    def occluders(part, low, high, reach):
+        asked.append(part)
+        other, matrix = (ring, lift) if part == 1 else (floor, drop)
+        return [(other.positions @ matrix[:3, :3].T + matrix[:3, 3], other.triangles)]
+
+    settings = BakeSettings(rays=16, image_size=256, use_scene_occluders=True)
+    together = BakePipeline([ring, floor], [lift, drop], settings, BVHCaster, occluders).run()
+    alone = BakePipeline([ring, floor], [lift, drop], settings.replace(use_scene_occluders=False), BVHCaster,
+                         occluders).run()
+    assert sorted(asked) == [0, 1]                                     # asked once per part, and only when on
+    assert together.part_triangles(0) == slice(0, len(ring.triangles))
+    assert together.part_triangles(1) == slice(len(ring.triangles), len(ring.triangles) + len(floor.triangles))
+    floor_texels = together.layout.part_of_texel() == 1
+    under = floor_texels & together.computed
+    assert together.texel_ao[under].mean() < alone.texel_ao[under].mean() - 0.02
