@@ -189,14 +189,16 @@ def buried(behind, rays, params):
     return 2 * behind > np.asarray(rays)
 
 
-def noise_bound(ao, rays):
+def noise_estimate(ao, rays):
     """Expected error (one standard deviation, RMS over texels) of AO estimated from independent rays.
 
     Each ray contributes a value in [0, 1], so for a texel whose AO is ``m``
     the variance of one ray is at most m (1 - m); ``rays`` rays divide it by
     ``rays``.  The estimate m̂ (1 - m̂) · n / (n - 1) is unbiased for m (1 - m)
-    with binary rays.  Stratified (Sobol') rays and the denoiser do better,
-    so for a bake this is an upper estimate of its noise.
+    with binary rays.  It is an estimate, not a bound: stratified (Sobol')
+    rays and the denoiser do better, and a bake leaves out the texels the
+    adaptive stop settled (their pilot rays all agreed, which says nothing of
+    their variance: :class:`.job.AOJob`'s ``settled``).
 
     Parameters
     ----------

@@ -26,6 +26,9 @@ ASSET_SUFFIXES = (".blend", ".glb", ".gltf", ".obj", ".fbx", ".ply", ".stl")
 OUTPUT_SUFFIX = {".blend": ".blend"}           # everything else becomes .glb
 OUTPUT_TAG = "_ao"                             # chair.glb -> chair_ao.glb
 STAMP_FILE = ".seamless_ao_batch.json"
+#: What a worker writes before renaming it to its output (``chair_ao.glb.part1234.glb``): a worker that is
+#: stopped or crashes leaves it behind, and it is never taken for an input.
+PARTIAL = re.compile(r"\.part\d+$")
 #: Bump when a change of the batch itself should redo every output.
 BATCH_VERSION = 1
 MAX_NAME = 96
@@ -143,14 +146,31 @@ def plan_outputs(assets, output_dir=None):
     return outputs
 
 
+def partial_output(output, pid):
+    """Where worker ``pid`` writes ``output`` before renaming it (same folder and suffix)."""
+    output = str(output)
+    return "{}.part{}{}".format(output, pid, os.path.splitext(output)[1])
+
+
+def remove_partial_output(output, pid):
+    """Remove what worker ``pid`` left half-written for ``output``, if anything."""
+    try:
+        os.remove(partial_output(output, pid))
+    except FileNotFoundError:
+        pass
+
+
 def drop_outputs(assets, output_dir=None):
     """``assets`` without earlier results: ``*_ao.glb`` and ``*_ao.blend`` files in ``output_dir`` or
-    beside an input ``x.*`` that writes ``x_ao.*``.  So a re-run never bakes its own outputs."""
+    beside an input ``x.*`` that writes ``x_ao.*``, and what a stopped worker left half-written (see
+    :data:`PARTIAL`).  So a re-run never bakes its own outputs."""
     base = pathlib.Path(output_dir).expanduser().resolve() if output_dir is not None else None
     sources = {(a.parent, safe_stem(a.stem)) for a in assets}
     kept = []
     for asset in assets:
         stem = asset.stem
+        if PARTIAL.search(stem) and PARTIAL.sub("", stem).endswith(OUTPUT_TAG + asset.suffix):
+            continue
         earlier_result = stem.endswith(OUTPUT_TAG) and asset.suffix.lower() in (".glb", ".blend") and (
             asset.parent == base or (asset.parent, stem[:-len(OUTPUT_TAG)]) in sources)
         if not earlier_result:
@@ -193,7 +213,9 @@ def previous_result(asset, output, digest):
 
     A baked output stands when it exists, is at least as new as the input and
     was made with the same settings; a failure stands when the input (time
-    and size) and the settings are the ones that failed.
+    and size) and the settings are the ones that failed, and no output exists
+    (one that does was written after the failure was stamped: bake again to
+    know which is true).
     """
     stamp = read_stamps(pathlib.Path(output).parent).get(pathlib.Path(output).name)
     if not stamp or stamp.get("settings") != digest or stamp.get("input") != str(asset):
@@ -203,7 +225,8 @@ def previous_result(asset, output, digest):
         if os.path.exists(output) and os.stat(output).st_mtime_ns >= stat.st_mtime_ns:
             return stamp
         return None
-    if stamp.get("input_mtime_ns") == stat.st_mtime_ns and stamp.get("input_size") == stat.st_size:
+    if (stamp.get("input_mtime_ns") == stat.st_mtime_ns and stamp.get("input_size") == stat.st_size
+            and not os.path.exists(output)):
         return stamp
     return None
 

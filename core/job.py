@@ -48,6 +48,7 @@ class AOJob:
     ---------------------------------
     ao : (n,) float32 per texel
     computed : (n,) bool, texels that got rays
+    settled : (n,) bool, texels the adaptive stop settled after their pilot rays
     buried : (n,) bool, computed texels inside a closed piece (:func:`.ao.buried`),
         but for the rim of each buried region, which is shaded again at the
         crease (:meth:`_queue_creases`)
@@ -65,6 +66,7 @@ class AOJob:
         self.behind = np.zeros(count, dtype=np.int64)            # rays that hit a back face
         self.cast_count = np.zeros(count, dtype=np.int64)        # rays cast
         self.buried = np.zeros(count, dtype=bool)
+        self.settled = np.zeros(count, dtype=bool)
         self.creased = False
         self.rays_cast = 0
         self.seconds = 0.0
@@ -194,10 +196,9 @@ class AOJob:
                                neighbours=None if ask is None else (lambda code: ask(selection, code)),
                                rays=self.ray_count[selection])
         self.sums[selection] = sums
-        stopped = np.zeros(self.targets.count, dtype=bool)
-        stopped[selection[decided]] = True
+        self.settled[selection[decided]] = True
         for members, rays in self.remaining:
-            todo = members[~stopped[members]]
+            todo = members[~self.settled[members]]
             if len(rays) and len(todo):
                 self.passes.append([todo, rays, None])
         self.remaining = []

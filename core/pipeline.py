@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .ao import noise_bound
+from .ao import noise_estimate
 from .budget import check_budget, planned_size
 from .denoise import denoise
 from .fill import texel_image
@@ -42,7 +42,7 @@ class BakeResult:
     ray_count: np.ndarray          # (n,) int, rays each texel was meant to get
     texels: int                    # texels that got rays
     rays: int                      # rays cast
-    noise: float                   # ray noise before denoising (:func:`.ao.noise_bound`)
+    noise: float                   # ray noise before denoising, of the texels that got all their rays
     caster: str                    # the caster's name
     timings: dict = field(default_factory=dict)     # seconds of each stage
     warnings: list = field(default_factory=list)    # sentences for the user (the atlas')
@@ -122,7 +122,8 @@ class BakePipeline:
             self.free()
             ao = job.ao
             seen = job.computed & ~job.buried
-            noise = noise_bound(ao[seen], job.ray_count[seen])
+            sampled = seen & ~job.settled
+            noise = noise_estimate(ao[sampled], job.ray_count[sampled])
             if settings.denoise:
                 yield 0.95, "Denoising"
                 start = time.perf_counter()

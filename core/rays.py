@@ -149,6 +149,15 @@ def ray_space(positions, linear):
     return centre, to_ray
 
 
+def world_winding(triangles, linear):
+    """``triangles`` (t, 3) wound as they look once the linear map ``linear`` (3, 3) is applied to their
+    vertices: a map that mirrors (negative determinant, e.g. a scale of -1 on one axis) turns every face
+    inside out, so the last two corners swap to keep the faces' normals where Blender shows them.  Casters
+    take a hit face's normal from its winding (back faces, sealed pieces)."""
+    triangles = np.asarray(triangles)
+    return triangles[:, [0, 2, 1]] if np.linalg.det(np.asarray(linear, dtype=np.float64)) < 0.0 else triangles
+
+
 def same_space(points, normals=None):
     """The identity map of :func:`ray_space`'s ``to_ray``, for points already in ray space."""
     return points if normals is None else (points, normals)
@@ -165,7 +174,8 @@ class RayPart:
 
 
 #: ``occluders(low (3,), high (3,), reach) -> iterable of (world positions (v, 3), triangles (t, 3))``: the
-#: scene geometry within ``reach`` of the world box ``low``..``high`` (the Blender side reads it).
+#: scene geometry within ``reach`` of the world box ``low``..``high`` (the Blender side reads it), each
+#: triangle wound counter-clockwise seen from the front in world space (:func:`world_winding`).
 Occluders = Callable
 
 
@@ -191,7 +201,7 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     centre, to_ray = ray_space(mesh.positions, matrix[:3, :3])
     own = to_ray(mesh.positions)
     params = ao_params(settings, own, rays)
-    positions, triangles = [own], [mesh.triangles]
+    positions, triangles = [own], [world_winding(mesh.triangles, matrix[:3, :3])]
     if occluders is not None:
         shift = matrix[:3, :3] @ centre + matrix[:3, 3]               # ray space + shift = world
         low, high = own.min(axis=0) + shift, own.max(axis=0) + shift

@@ -61,8 +61,12 @@ def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):
     Its opening is ``|sum of a_i n_i| / sum of a_i`` over its triangles
     (area a, unit normal n): 0 for a closed surface, the projected area of
     the holes over the whole area otherwise.  It is sealed when the opening is
-    below ``max_opening`` and its signed volume is positive (normals outward:
-    an inside-out piece would make every point outside it look buried).
+    below ``max_opening`` and its signed volume about its own area centroid is
+    positive (normals outward: an inside-out piece would make every point
+    outside it look buried).  Both depend on the piece alone, so moving or
+    rotating it, or adding other pieces, changes nothing; ``triangles`` must be
+    wound counter-clockwise seen from the outside in the space of
+    ``positions`` (see :func:`.rays.world_winding` for mirrored objects).
 
     Parameters
     ----------
@@ -81,13 +85,19 @@ def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):
     welded = exact_weld(positions)[triangles]
     piece = connected_components(int(welded.max()) + 1, np.concatenate([welded[:, :2], welded[:, 1:]]))[welded[:, 0]]
     pieces = int(piece.max()) + 1
-    centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0))
+    centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0))            # only for precision
     a, b, c = ((positions[triangles[:, k]] - centre).T for k in range(3))       # (3, t) each
     u, v = b - a, c - a
     cross = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])   # 2 * area * normal
-    area = np.bincount(piece, weights=np.sqrt(cross[0] ** 2 + cross[1] ** 2 + cross[2] ** 2), minlength=pieces)
+    twice_area = np.sqrt(cross[0] ** 2 + cross[1] ** 2 + cross[2] ** 2)
+    area = np.bincount(piece, weights=twice_area, minlength=pieces)
     normal_sum = np.stack([np.bincount(piece, weights=k, minlength=pieces) for k in cross], axis=1)
     opening = np.sqrt((normal_sum * normal_sum).sum(axis=1)) / np.maximum(area, 1e-300)
-    # 6 x signed volume: a . (b x c), which equals a . ((b - a) x (c - a))
+    # Outward: 6 x the signed volume of the fan from the piece's own area centroid, sum of (a - p) . (b - a) x (c - a).
+    # A closed piece's is the same about any point; an open piece's depends on the point, and the piece's own
+    # centroid moves with it and is blind to the rest of the scene.
+    centroid = np.stack([np.bincount(piece, weights=twice_area * (a[k] + b[k] + c[k]) / 3.0, minlength=pieces)
+                         for k in range(3)], axis=1) / np.maximum(area, 1e-300)[:, None]
     volume = np.bincount(piece, weights=a[0] * cross[0] + a[1] * cross[1] + a[2] * cross[2], minlength=pieces)
+    volume -= (centroid * normal_sum).sum(axis=1)
     return ((opening < max_opening) & (volume > 0.0) & (area > 0.0))[piece]

@@ -54,7 +54,7 @@ class VIEW3D_PT_seamless_ao(SidebarPanel, bpy.types.Panel):
             grid.label(text="Atlas use")
             grid.label(text="{:.0%}".format(settings.last_bake_utilisation))
             grid.label(text="Noise (raw, 1σ)")
-            grid.label(text="≤ {:.3f}".format(settings.last_bake_noise))
+            grid.label(text="≈ {:.3f}".format(settings.last_bake_noise))
 
 
 class VIEW3D_PT_seamless_ao_rays(SubPanel, bpy.types.Panel):

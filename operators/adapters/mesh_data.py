@@ -6,6 +6,7 @@ import numpy as np
 
 from ...core.errors import SeamlessAOError
 from ...core.mesh import TriangleMesh, boxes_near
+from ...core.rays import world_winding
 
 
 def vertex_positions(mesh):
@@ -107,7 +108,7 @@ def scene_occluders(boxes, depsgraph, exclude, low, high, reach):
         if not len(triangles):
             continue
         matrix = np.array(other.matrix_world, dtype=np.float64)
-        yield positions @ matrix[:3, :3].T + matrix[:3, 3], triangles
+        yield positions @ matrix[:3, :3].T + matrix[:3, 3], world_winding(triangles, matrix[:3, :3])
 
 
 def mesh_boxes(scene, depsgraph):

@@ -64,7 +64,7 @@ class BakeReport:
         text = "Baked {} in {:.1f} s: {}x{} image '{}', {:,} texels, {:,.0f} rays, {:.0%} of the image used".format(
             ", ".join(self.objects), self.seconds, self.width, self.height, self.image, self.texels, self.rays,
             self.utilisation)
-        text += ", noise before denoising at most {:.3f}".format(self.noise)
+        text += ", ray noise before denoising about {:.3f}".format(self.noise)
         if self.mesh_problems:
             text += "; handled: " + ", ".join(self.mesh_problems)
         return text

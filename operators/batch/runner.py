@@ -21,7 +21,7 @@ import time
 import bpy
 
 from ...core.assets import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
-                            settings_digest, write_stamp)
+                            remove_partial_output, settings_digest, write_stamp)
 from ...core.errors import SeamlessAOError
 from ...core.settings import DOMAIN_ITEMS, BakeSettings, ExportSettings
 
@@ -108,9 +108,11 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
     if color_attribute is not None and color_attribute not in [item[0] for item in DOMAIN_ITEMS]:
         raise SeamlessAOError("color_attribute must be one of {} (got {!r})".format(
             ", ".join(item[0] for item in DOMAIN_ITEMS), color_attribute))
-    jobs = int(jobs or os.cpu_count() or 1)
-    if jobs < 1:
-        raise SeamlessAOError("jobs must be at least 1 (got {})".format(jobs))
+    if jobs is None:
+        jobs = os.cpu_count() or 1
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise SeamlessAOError("jobs must be a whole number of worker processes, at least 1 (got {!r}); leave it "
+                              "out for one per core".format(jobs))
     progress = progress or (lambda line: print(line, file=sys.stderr, flush=True))
 
     assets, unreadable = find_assets(paths, pattern)
@@ -175,13 +177,16 @@ def _run_workers(queue, outputs, job_options, jobs, scratch, timeout=None):
         time.sleep(0.05)
         for entry in list(running):
             process, job, log_path, started = entry
-            late = timeout is not None and time.perf_counter() - started > timeout
-            if late and process.poll() is None:
+            stopped = False
+            if process.poll() is None:                 # still running: stopped only if past the deadline
+                if timeout is None or time.perf_counter() - started <= timeout:
+                    continue
                 process.kill()
                 process.wait()
-            if process.poll() is not None:
-                running.remove(entry)
-                yield _collect(process, job, log_path, timeout if late else None)
+                stopped = True
+                remove_partial_output(job["output"], process.pid)   # what it was writing when stopped
+            running.remove(entry)
+            yield _collect(process, job, log_path, timeout if stopped else None)
 
 
 def _collect(process, job, log_path, timed_out=None):

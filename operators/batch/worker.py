@@ -24,7 +24,7 @@ import addon_utils
 import bpy
 import numpy as np
 
-from ...core.assets import AssetRecord
+from ...core.assets import AssetRecord, partial_output
 from ...core.errors import SeamlessAOError
 from ...core.keys import AO_LAYERS, AO_UV, COLOR_ATTRIBUTE
 from ...core.settings import BakeSettings
@@ -174,7 +174,7 @@ def write_output(objects, job, from_blend):
     """The .blend or .glb, written under a temporary name and then renamed: a crash never leaves a
     half-written output that a re-run would take as done."""
     output = job["output"]
-    partial = "{}.part{}{}".format(output, os.getpid(), os.path.splitext(output)[1])
+    partial = partial_output(output, os.getpid())
     try:
         if from_blend:
             bpy.ops.wm.save_as_mainfile(filepath=partial, copy=True)

@@ -61,8 +61,9 @@ def _stats_annotations():
         "last_bake_utilisation": FloatProperty(
             name="Atlas Use", description="Fraction of the image covered by charts", default=0.0),
         "last_bake_noise": FloatProperty(
-            name="Noise", description="Expected noise of the last bake's AO before denoising (one standard "
-            "deviation, for independent rays; stratified rays and the denoiser do better)", default=0.0),
+            name="Noise", description="Ray noise of the last bake's AO before denoising, estimated as if its rays "
+            "were independent (one standard deviation, over the texels that got all their rays): an estimate, "
+            "not a bound; stratified rays and the denoiser do better", default=0.0),
         "preview": BoolProperty(
             name="Preview AO Only",
             description="Show only the baked AO on the baked objects' materials (emission), to judge it",

@@ -213,3 +213,65 @@ def test_an_asset_over_the_timeout_is_stopped_and_reported(first_run, tmp_path):
     assert [r.status for r in records] == ["failed"]
     assert records[0].error == "stopped after 0.2 s (--timeout); the asset took longer"
     assert not any(tmp_path.glob("*.glb"))
+
+
+#: A stand-in worker: writes its half-finished output, then (if told) sleeps, then finishes like a real one.
+FAKE_WORKER = """
+import json, os, sys, time
+job = json.load(open(sys.argv[1]))
+output = job["output"]
+partial = "{}.part{}{}".format(output, os.getpid(), os.path.splitext(output)[1])
+open(partial, "w").write("half")
+time.sleep(float(os.environ.get("FAKE_WORKER_SECONDS", "0")))
+os.replace(partial, output)
+json.dump(dict(input=job["input"], output=output, status="baked"), open(job["record"], "w"))
+"""
+
+
+def fake_batch(tmp_path, monkeypatch, seconds, timeout, poll_every):
+    """One asset through the runner with :data:`FAKE_WORKER`, polled every ``poll_every`` seconds."""
+    import subprocess as processes
+    import sys
+    import time
+    from seamless_ao.operators.batch import runner
+    asset = tmp_path / "chair.obj"
+    asset.write_text("v 0 0 0")
+    monkeypatch.setenv("FAKE_WORKER_SECONDS", str(seconds))
+    monkeypatch.setattr(runner, "worker_command", lambda job_path: [sys.executable, "-c", FAKE_WORKER, job_path])
+    started = []
+    original = processes.Popen
+
+    def recorded(*args, **kwargs):
+        started.append(original(*args, **kwargs))
+        return started[-1]
+    monkeypatch.setattr(runner.subprocess, "Popen", recorded)
+    sleep = time.sleep
+    monkeypatch.setattr(runner.time, "sleep", lambda _: sleep(poll_every))
+    try:
+        records = seamless_ao.batch([str(asset)], jobs=1, timeout=timeout, progress=lambda line: None)
+    finally:
+        monkeypatch.undo()
+    return records, started[0].pid, tmp_path / "chair_ao.glb"
+
+
+def test_a_worker_that_finished_before_its_deadline_is_not_reported_stopped(tmp_path, monkeypatch):
+    """Polled only after its deadline had passed, a worker that had already finished is collected as it
+    finished: baked, with its output, and no failure stamp that would stick."""
+    records, _, output = fake_batch(tmp_path, monkeypatch, seconds=0.0, timeout=0.3, poll_every=1.5)
+    assert [r.status for r in records] == ["baked"] and output.exists()
+
+
+def test_a_stopped_worker_leaves_nothing_half_written_behind(tmp_path, monkeypatch):
+    records, pid, output = fake_batch(tmp_path, monkeypatch, seconds=60.0, timeout=0.8, poll_every=0.05)
+    assert [r.status for r in records] == ["failed"] and "--timeout" in records[0].error
+    assert not output.exists() and not list(tmp_path.glob("*.part*")), list(tmp_path.iterdir())
+    assert str(pid) not in " ".join(p.name for p in tmp_path.iterdir())
+
+
+def test_jobs_must_be_at_least_one(tmp_path):
+    from seamless_ao.core.errors import SeamlessAOError
+    for jobs in (0, -2, 1.5):
+        with pytest.raises(SeamlessAOError, match="jobs must be a whole number of worker processes, at least 1"):
+            seamless_ao.batch([str(tmp_path)], jobs=jobs)
+    proc, _ = run_batch(str(tmp_path), "--jobs", "0")
+    assert proc.returncode == 2 and "jobs must be a whole number" in proc.stderr, proc.stderr

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from seamless_ao.core.ao import noise_bound, occlusion_sums
+from seamless_ao.core.ao import noise_estimate, occlusion_sums
 from seamless_ao.core.job import point_ao
 from seamless_ao.core.rays import AOParams, BVHCaster
 from seamless_ao.core.sampling import cone_directions, random_samples, sobol_2d, texel_samples
@@ -226,16 +226,16 @@ def test_cone_directions_stay_in_the_cone():
 
 
 
-def test_noise_bound_matches_independent_rays():
+def test_noise_estimate_matches_independent_rays():
     """For independent binary rays the bound is the actual RMS error, whatever the ray count."""
     rng = np.random.default_rng(4)
     truth = rng.random(40000)
     for rays in (4, 16, 64):
         estimate = rng.binomial(rays, truth) / rays
         actual = np.sqrt(np.mean((estimate - truth) ** 2))
-        assert noise_bound(estimate, rays) == pytest.approx(actual, rel=0.03)
-    assert noise_bound(np.ones(10), 16) == 0.0 and noise_bound(np.zeros(0), 16) == 0.0
-    assert noise_bound(np.full(10, 0.5), 1) == pytest.approx(0.5)
+        assert noise_estimate(estimate, rays) == pytest.approx(actual, rel=0.03)
+    assert noise_estimate(np.ones(10), 16) == 0.0 and noise_estimate(np.zeros(0), 16) == 0.0
+    assert noise_estimate(np.full(10, 0.5), 1) == pytest.approx(0.5)
 
 
 CEILING = [(-BIG, -BIG, 1.0), (-BIG, BIG, 1.0), (BIG, BIG, 1.0), (BIG, -BIG, 1.0)]    # z = 1, facing down

@@ -61,6 +61,21 @@ def test_earlier_outputs_are_not_taken_as_assets(tmp_path):
     assert plan.drop_outputs(assets, tmp_path / "out") == [chair, tmp_path / "rock_ao.glb"]
 
 
+def test_what_a_stopped_worker_left_half_written_is_not_taken_as_an_asset(tmp_path):
+    """A worker writes ``chair_ao.glb.part<pid>.glb`` and renames it when done; one that was stopped leaves it
+    beside the inputs, where the next run must not take it for an asset."""
+    chair = tmp_path / "chair.glb"
+    left = pathlib.Path(plan.partial_output(tmp_path / "chair_ao.glb", 4321))
+    assert left.name == "chair_ao.glb.part4321.glb"
+    blend_left = pathlib.Path(plan.partial_output(tmp_path / "room_ao.blend", 7))
+    parts_like = tmp_path / "engine.part2.glb"                      # an asset whose own name looks alike
+    assert plan.drop_outputs([chair, left, blend_left, parts_like]) == [chair, parts_like]
+    touch(left)
+    plan.remove_partial_output(tmp_path / "chair_ao.glb", 4321)
+    plan.remove_partial_output(tmp_path / "chair_ao.glb", 4321)        # nothing left: no error
+    assert not left.exists()
+
+
 def test_a_result_stands_only_for_the_same_input_and_settings(tmp_path):
     asset = touch(tmp_path / "chair.glb", mtime=10**18)
     output = tmp_path / "chair_ao.glb"
@@ -77,6 +92,9 @@ def test_a_result_stands_only_for_the_same_input_and_settings(tmp_path):
     failed = plan.AssetRecord(input=str(asset), output=str(output), error="no faces")
     plan.write_stamp(output, asset, digest, failed)
     assert plan.previous_result(asset, output, digest)["error"] == "no faces"  # the same failure again
+    touch(output, mtime=10**18 + 3)
+    assert plan.previous_result(asset, output, digest) is None                 # an output written since: bake
+    output.unlink()
     touch(asset, text="fixed", mtime=10**18 + 2)
     assert plan.previous_result(asset, output, digest) is None                 # a changed file is tried again
 

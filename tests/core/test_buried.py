@@ -57,17 +57,53 @@ def test_a_box_of_six_separate_grids_is_sealed_an_inside_out_box_and_a_sheet_are
     assert flags[:len(box[1])].all() and not flags[len(box[1]):].any()
 
 
-def test_a_shell_with_a_small_hole_is_sealed_a_half_open_one_is_not():
+def opening_of(positions, triangles):
+    """|sum of area-weighted normals| / area, computed here on its own (not core's)."""
+    corner = positions[triangles]
+    cross = np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0])
+    return np.linalg.norm(cross.sum(axis=0)) / np.linalg.norm(cross, axis=1).sum()
+
+
+def test_a_shell_with_a_small_hole_and_a_hemisphere_are_sealed_a_shallow_dish_is_not():
+    """Sealed means an opening under MAX_OPENING: a sphere with a cap cut off, and a hemisphere (one half),
+    are; a shallow dish is not."""
     positions, triangles = meshes.uv_sphere(rings=24, segments=48)
     z = positions[triangles].mean(axis=1)[:, 2]
-    assert sealed_triangles(positions, triangles[z < 0.9]).all()       # a cap cut off: opening ~ 0.02
-    # a shallow dish (the cap below z = -0.7: opening (1 - h) / 2 = 0.85) is open: not sealed
-    bowl = triangles[z < -0.7]
-    corner = positions[bowl]
-    cross = np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0])
-    opening = np.linalg.norm(cross.sum(axis=0)) / np.linalg.norm(cross, axis=1).sum()
-    assert opening > MAX_OPENING
-    assert not sealed_triangles(positions, bowl).any()
+    capped = triangles[z < 0.9]
+    assert opening_of(positions, capped) < 0.1 and sealed_triangles(positions, capped).all()
+    hemisphere = triangles[z < 0.0]
+    assert abs(opening_of(positions, hemisphere) - 0.5) < 0.02
+    assert sealed_triangles(positions, hemisphere).all()
+    dish = triangles[z < -0.7]                                      # the cap below z = -0.7
+    assert opening_of(positions, dish) > MAX_OPENING
+    assert not sealed_triangles(positions, dish).any()
+
+
+def mirrored(positions, triangles):
+    """The mesh mirrored in x, wound so its faces still point outward (what core.rays.world_winding does)."""
+    return positions * [-1.0, 1.0, 1.0], triangles[:, [0, 2, 1]]
+
+
+def test_which_pieces_are_sealed_depends_on_each_piece_alone():
+    """An open cup is sealed alone, and stays so whatever else is in the scene (a closed sphere below or above
+    it, far away or near), moved, rotated or mirrored; inside out it is not sealed, wherever it stands."""
+    positions, triangles = meshes.uv_sphere(rings=24, segments=48)
+    z = positions[triangles].mean(axis=1)[:, 2]
+    cup = (positions, triangles[z < 0.2])                           # open at the top
+    ball = meshes.uv_sphere(radius=0.3, rings=8, segments=16)
+    assert sealed_triangles(*cup).all()
+    count = len(cup[1])
+    for offset in ((0.0, 0.0, -6.0), (0.0, 0.0, 6.0), (40.0, -3.0, 0.5), (0.0, 0.0, -1.5)):
+        scene = together(cup, (ball[0] + offset, ball[1]))
+        flags = sealed_triangles(*scene)
+        assert flags[:count].all() and flags[count:].all(), offset
+        inside_out = together((cup[0], cup[1][:, ::-1]), (ball[0] + offset, ball[1]))
+        flags = sealed_triangles(*inside_out)
+        assert not flags[:count].any() and flags[count:].all(), offset
+    turn = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
+    for moved in ((cup[0] + [1e3, -7.0, 2.0], cup[1]), (cup[0] @ turn.T, cup[1]), mirrored(*cup)):
+        assert sealed_triangles(*moved).all()
+        assert sealed_triangles(*together(moved, (ball[0] - [0.0, 0.0, 6.0], ball[1])))[:count].all()
 
 
 def behind_counts(points, normals, caster, params):

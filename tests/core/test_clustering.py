@@ -35,11 +35,18 @@ def test_torus():
 
 
 @pytest.mark.parametrize("angle", [30.0, 45.0, 60.0, 75.0, 85.0])
-def test_compare_angle_range(angle):
+def test_compare_angle_decides_which_axes_each_face_joins(angle):
+    """A face is in a chart of every axis its normal is within the compare angle of (on that side), and in its
+    dominant axis's when it is within none: the number of charts per face follows from its normal alone."""
     mesh = TriangleMesh.from_triangles(*meshes.torus(rings=32, segments=16), smooth=True)
     _, charts = check_charts(mesh, angle)
-    overlap = (charts.chart_of_face >= 0).sum(axis=1).mean()
-    assert 1.0 <= overlap <= 3.0
+    cosine = np.abs(mesh.face_normal)                                   # (f, 3): |n_a| per axis
+    threshold = np.cos(np.radians(angle))
+    expected = np.maximum((cosine >= threshold).sum(axis=1), 1)
+    clear = (np.abs(cosine - threshold) > 1e-6).all(axis=1)           # not on the fence
+    actual = (charts.chart_of_face >= 0).sum(axis=1)
+    assert clear.mean() > 0.9
+    assert np.array_equal(actual[clear], expected[clear]), angle
 
 
 def test_more_overlap_with_wider_compare_angle():

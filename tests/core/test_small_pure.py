@@ -110,6 +110,55 @@ def test_segment_distance_of_collinear_segments_is_their_gap():
     assert cross[0] < 1e-12 and abs(s[0] - 0.5) < 1e-12 and abs(u[0] - 0.5) < 1e-12
 
 
+def random_layout(rng, count, corners=3):
+    """Shapes of mixed sizes (many small, a few huge), in groups 0..3 and -1 (left out)."""
+    start = rng.uniform(0, 20, (count, 1, 2))
+    size = np.where(rng.random(count) < 0.05, rng.uniform(3, 12, count), rng.exponential(0.4, count))
+    shapes = start + rng.normal(0, 1, (count, corners, 2)) * size[:, None, None]
+    return shapes, rng.integers(-1, 4, count)
+
+
+@pytest.mark.parametrize("seed, corners, margin", [(0, 3, 0.0), (1, 3, 0.3), (2, 2, 2.0), (3, 2, 0.0), (4, 3, 1.0)])
+def test_candidate_pairs_miss_no_pair_whose_boxes_come_within_the_margin(seed, corners, margin):
+    """Against every pair, brute force (tests/support/plane_judge.py): each pair of one group whose boxes come
+    within the margin is a candidate, with or without a query; candidates are of one group, i < j, once."""
+    from plane_judge import boxes_within, boxes_within_brute
+    rng = np.random.default_rng(seed)
+    shapes, group = random_layout(rng, 700, corners)
+    expected = boxes_within_brute(shapes, group, margin)
+    assert len(expected) > 100
+    assert np.array_equal(boxes_within(shapes, group, margin), expected)          # the judge's own sweep agrees
+    found = candidate_pairs(shapes, group, margin)
+    assert (found[:, 0] < found[:, 1]).all() and len(np.unique(found, axis=0)) == len(found)
+    assert (group[found[:, 0]] == group[found[:, 1]]).all() and (group[found[:, 0]] >= 0).all()
+    missed = set(map(tuple, expected)) - set(map(tuple, found))
+    assert not missed, sorted(missed)[:5]
+    query = rng.random(len(shapes)) < 0.1
+    asked = candidate_pairs(shapes, group, margin, query=query)
+    wanted = expected[query[expected[:, 0]] | query[expected[:, 1]]]
+    assert not set(map(tuple, wanted)) - set(map(tuple, asked))
+    assert (query[asked[:, 0]] | query[asked[:, 1]]).all()
+
+
+def test_the_layout_judge_on_closed_form_cases():
+    """tests/support/plane_judge.py, which judges layouts in other tests, on cases with known answers."""
+    from plane_judge import interiors_overlap, overlap_point, triangle_distance
+    base = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
+    cases = np.array([
+        [[2.0, 0.0], [0.0, 2.0], [2.0, 2.0]],        # shares an edge: touching, no overlap
+        [[0.5, 0.5], [3.0, 0.5], [0.5, 3.0]],        # a corner inside: overlap
+        [[-1.0, 1.0], [3.0, 0.5], [3.0, 1.0]],       # edges cross, no corner inside: overlap
+        [[3.0, 0.0], [5.0, 0.0], [3.0, 2.0]],        # one unit to the right of the far corner
+        [[0.2, 0.2], [0.4, 0.2], [0.2, 0.4]],        # inside the other entirely
+    ])
+    first = np.repeat(base[None], len(cases), axis=0)
+    assert interiors_overlap(first, cases).tolist() == [False, True, True, False, True]
+    assert np.allclose(triangle_distance(first, cases), [0.0, 0.0, 0.0, 1.0, 0.0])
+    point = overlap_point(first[[1, 4]], cases[[1, 4]])
+    assert np.allclose(point[1], cases[4].mean(axis=0))          # the small one's corners: its own centroid
+    assert (point[0] > 0.5).all() and point[0].sum() < 2.0        # inside both
+
+
 def test_candidate_pairs_with_a_query_are_the_pairs_that_touch_it():
     rng = np.random.default_rng(3)
     start = rng.uniform(0, 10, (400, 2))

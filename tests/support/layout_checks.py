@@ -1,11 +1,12 @@
 """Checks shared by the chart and atlas tests: charts keep every promise of issue 3, lookups land on their
-own chart, layers never overlap."""
+own chart, layers never overlap.  Overlaps and distances are judged by :mod:`plane_judge`, which shares no
+code with the layout it judges."""
 
 import numpy as np
 
+from plane_judge import boxes_within, depth_at, interiors_overlap, overlap_point, triangle_distance
 from seamless_ao.core.adjacency import face_adjacency
-from seamless_ao.core.clustering import AXES, SAME_SURFACE, cluster_faces, triangle_chart_geometry
-from seamless_ao.core.overlap import candidate_pairs, overlapping_triangles, separated
+from seamless_ao.core.clustering import AXES, SAME_SURFACE, cluster_faces
 from seamless_ao.core.layout import layer_lookup
 from seamless_ao.core.raster import COVERED, texel_geometry
 
@@ -67,26 +68,24 @@ def check_lookups(layout, rng, count=3000, per_triangle=False):
             (distance / limit).max())
 
 
-def check_layers_do_not_overlap(layout):
-    """Within one UV layer, distinct triangles never overlap, and charts keep 2 texels apart."""
+def check_layers_do_not_overlap(layout, separation=1.999):
+    """Within one UV layer, distinct triangles never overlap, and charts keep ``separation`` texels apart."""
     mesh, atlas = layout.mesh, layout.atlas
     live = ~mesh.degenerate
     for layer in range(3):
         member = np.where(atlas.membership[:, layer] >= 0, atlas.membership[:, layer], atlas.dominant_member)
         tri_uv = atlas.member_uv[member][live]
         chart = atlas.member_chart[member][live]
-        pairs = candidate_pairs(tri_uv, np.zeros(len(tri_uv), dtype=np.int64), margin=2.0)
+        pairs = boxes_within(tri_uv, np.zeros(len(tri_uv), dtype=np.int64), separation)
         a, b = pairs[:, 0], pairs[:, 1]
         same_chart = chart[a] == chart[b]
         # different charts: at least two texels apart
-        far = separated(tri_uv[a[~same_chart]], tri_uv[b[~same_chart]], 1.999)
-        assert far.all(), "charts closer than 2 texels in layer {}".format(layer)
-        # same chart, not neighbours: interiors must not overlap
-        welded = layout.topology.welded_triangles[live]
-        shares = (welded[a][:, :, None] == welded[b][:, None, :]).any(axis=(1, 2))
-        inner = same_chart & ~shares
-        apart = separated(tri_uv[a[inner]], tri_uv[b[inner]], -1e-6)
-        assert apart.all(), "two triangles overlap in layer {}".format(layer)
+        gap = triangle_distance(tri_uv[a[~same_chart]], tri_uv[b[~same_chart]])
+        assert (gap > separation).all(), "charts {:.3g} texels apart in layer {}".format(gap.min(), layer)
+        # same chart: interiors must not overlap
+        inner = same_chart & (a != b)
+        assert not interiors_overlap(tri_uv[a[inner]], tri_uv[b[inner]], 1e-9).any(), (
+            "two triangles overlap in layer {}".format(layer))
 
 
 def check_texels_finite(layout):
@@ -98,13 +97,25 @@ def check_texels_finite(layout):
 
 
 def overlaps_per_axis(mesh, topology, charts):
-    """Exhaustive count of overlapping triangle pairs inside charts, per axis."""
+    """Count of triangle pairs of one chart whose projections overlap at different depths, per axis: every
+    pair of each chart whose boxes meet, judged by :mod:`plane_judge` on the mesh projected here (the axis
+    coordinate dropped), not by core's own projection or tests."""
     counts = []
+    live = ~mesh.degenerate
+    tolerance = SAME_SURFACE * mesh.scale
     for axis in range(3):
-        group, uv, depth, _ = triangle_chart_geometry(mesh, charts, axis)
-        pairs = overlapping_triangles(
-            uv, depth, group, topology.welded_triangles, mesh.triangle_face, SAME_SURFACE * mesh.scale)
-        counts.append(len(pairs))
+        keep = [k for k in range(3) if k != axis]
+        corners = mesh.positions[mesh.triangles]                          # (t, 3, 3)
+        uv, depth = corners[:, :, keep], corners[:, :, axis]
+        group = np.where(live, charts.chart_of_face[mesh.triangle_face, axis], -1)
+        pairs = boxes_within(uv, group, 0.0)
+        a, b = pairs[:, 0], pairs[:, 1]
+        a, b = a[mesh.triangle_face[a] != mesh.triangle_face[b]], b[mesh.triangle_face[a] != mesh.triangle_face[b]]
+        meet = interiors_overlap(uv[a], uv[b], 1e-12 * mesh.scale ** 2)
+        a, b = a[meet], b[meet]
+        point = overlap_point(uv[a], uv[b])
+        gap = np.abs(depth_at(point, uv[a], depth[a]) - depth_at(point, uv[b], depth[b]))
+        counts.append(int((gap > tolerance).sum()))
     return counts
 
 
