@@ -144,6 +144,28 @@ def face_axis_cosines(mesh):
     return face_cos, worst_cos
 
 
+#: Rounds of averaging each face's normal with its neighbours' before clustering (:func:`smoothed_face_normals`).
+NORMAL_SMOOTHING = 2
+
+
+def smoothed_face_normals(mesh, edges, rounds=NORMAL_SMOOTHING):
+    """(f, 3) unit normals of each face averaged, area-weighted, with its edge neighbours ``rounds`` times.
+
+    Parameters
+    ----------
+    mesh : TriangleMesh
+    edges : (e, 2) int, faces sharing an edge (:attr:`.adjacency.Topology.face_edges`)
+    """
+    weighted = scatter_rows(np.add, np.zeros((mesh.face_count, 3)), mesh.triangle_face, mesh.triangle_cross)
+    for _ in range(rounds):
+        summed = weighted.copy()
+        scatter_rows(np.add, summed, edges[:, 0], weighted[edges[:, 1]])
+        scatter_rows(np.add, summed, edges[:, 1], weighted[edges[:, 0]])
+        weighted = summed
+    length = np.linalg.norm(weighted, axis=1, keepdims=True)
+    return np.divide(weighted, length, out=mesh.face_normal, where=length > 0)
+
+
 def cluster_faces(mesh, topology, compare_angle=60.0):
     """Overlapping signed-axis charts, made injective (no fold in any projection).
 
@@ -169,9 +191,16 @@ def signed_axis_clusters(mesh, topology, compare_angle=60.0):
     """
     face_cos, worst_cos = face_axis_cosines(mesh)
     live = ~mesh.face_degenerate
-    dominant = np.where(live, np.argmax(face_cos, axis=1), -1)
-    threshold = np.cos(np.radians(compare_angle))
     edges = topology.face_edges
+    # Which axes a face joins follows the surface's normal around it, not each face's own (a scanner's noise
+    # tilts single faces every way and would cut charts into slivers), as long as the face itself faces it.
+    smooth_cos = smoothed_face_normals(mesh, edges) @ AXES.T
+    dominant = np.argmax(smooth_cos, axis=1)
+    own = worst_cos[np.arange(len(dominant)), dominant] <= FRONT_FACING
+    dominant = np.where(own, np.argmax(face_cos, axis=1), dominant)
+    dominant = np.where(live, dominant, -1)
+    face_cos = smooth_cos
+    threshold = np.cos(np.radians(compare_angle))
     chart_of_face = np.full((mesh.face_count, 3), -1, dtype=np.int64)
     chart_axis = []
     for axis in range(3):

@@ -320,8 +320,13 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         tri_a, tri_b = b_tri[a], b_tri[b]
         explained = (np.maximum(depth_tolerance[tri_a], depth_tolerance[tri_b])
                      + distance * 2.0 * np.maximum(slope[tri_a], slope[tri_b]))
-        close = (distance <= np.minimum(touch[tri_a], touch[tri_b])) | ((distance <= margin) & (margin > 0))
-        hit = close & (np.abs(depth_a - depth_b) > explained)
+        touching = distance <= np.minimum(touch[tri_a], touch[tri_b])
+        # Within the margin but not touching: a conflict only between surfaces the margin apart in depth too.
+        # Closer than that, bilinear filtering mixes AO of points a few texels apart on one rough surface,
+        # as it does anywhere; a ragged boundary of a noisy scan is not two surfaces.
+        near = (distance <= margin) & (margin > 0)
+        depth_gap = np.abs(depth_a - depth_b)
+        hit = (touching & (depth_gap > explained)) | (near & (depth_gap > explained + margin))
         boundary_hits = np.concatenate([boundary_hits, np.stack([b_tri[a][hit], b_tri[b][hit]], 1)])
     found.append(boundary_hits)
     if memory is not None:
