@@ -14,6 +14,7 @@ was.
 
 import dataclasses
 import hashlib
+import json
 import time
 
 import bpy
@@ -198,6 +199,7 @@ def store_stats(scene, report):
         return
     props.last_bake_summary = report.summary()
     props.last_bake_time = report.seconds
+    props.last_bake_stages = json.dumps({stage: round(seconds, 4) for stage, seconds in report.timings.items()})
     props.last_bake_texels = report.texels
     props.last_bake_rays = float(report.rays)
     props.last_bake_utilisation = report.utilisation

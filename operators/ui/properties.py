@@ -56,6 +56,8 @@ def _stats_annotations():
         "last_bake_summary": StringProperty(
             name="Last Bake", description="What the last bake did", default=""),
         "last_bake_time": FloatProperty(name="Time", description="Seconds the last bake took", default=0.0),
+        "last_bake_stages": StringProperty(
+            name="Stages", description="Seconds of each stage of the last bake, as JSON (for scripts)", default=""),
         "last_bake_texels": IntProperty(name="Texels", description="Texels the last bake computed", default=0),
         "last_bake_rays": FloatProperty(name="Rays", description="Rays the last bake cast", default=0.0),
         "last_bake_utilisation": FloatProperty(
