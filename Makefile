@@ -74,9 +74,18 @@ test:
 	for v in $$available; do $(MAKE) --no-print-directory test-one BLENDER=$$v; done; \
 	if [ -n "$$missing" ]; then echo "== Tested Blender $${available:-none}; skipped $$missing (no Python for it here)"; fi
 
-test-one: .venv/$(BLENDER)/.installed wheels/.downloaded
+test-one: .venv/$(BLENDER)/.installed wheels/.downloaded .node/.installed
 	@echo "== Blender $(BLENDER): pytest"
 	$(call venv_python,$(BLENDER)) -m pytest tests $(PYTEST_ARGS)
+
+# The Khronos glTF validator (npm), pinned by requirements/gltf-validator/package-lock.json; the tests run it
+# on every GLB they write.
+.node/.installed: requirements/gltf-validator/package.json requirements/gltf-validator/package-lock.json
+	@echo "== glTF validator: npm ci into .node/"
+	@mkdir -p .node
+	@cp requirements/gltf-validator/package.json requirements/gltf-validator/package-lock.json .node/
+	@cd .node && npm ci --silent --no-audit --no-fund
+	@touch $@
 
 test-fast: .venv/5.0/.installed
 	$(call venv_python,5.0) -m pytest tests/core $(PYTEST_ARGS)
@@ -122,4 +131,4 @@ extension: .venv/$(BLENDER)/.installed wheels/.downloaded
 	@ls -1 dist/*.zip
 
 clean:
-	rm -rf .venv wheels dist out .pytest_cache
+	rm -rf .venv .node wheels dist out .pytest_cache

@@ -277,6 +277,9 @@ def make_injective(mesh, topology, charts, margin=0.0):
             pairs = fold_conflicts(
                 uv, depth, group, topology.welded_triangles, mesh.triangle_face,
                 SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope, fan_vertices, memory)
+            # Two triangles of one face cannot be split apart (a face's corners hold one UV per layer): a
+            # polygon folded over itself (a Boolean's n-gon, say) stays as it is rather than be split forever.
+            pairs = pairs[mesh.triangle_face[pairs[:, 0]] != mesh.triangle_face[pairs[:, 1]]]
             if not len(pairs):
                 break
             round_number += 1

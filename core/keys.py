@@ -20,14 +20,24 @@ SURFACE_KEY = "seamless_ao_surface"          # on materials: "node|socket identi
 CREATED_KEY = "seamless_ao_created"          # on materials: the add-on made this material (object had none)
 NODES_KEY = "seamless_ao_enabled_nodes"      # on materials: the add-on switched use_nodes on
 
+# -- objects whose modifiers change the topology (or that share a mesh): AO through a modifier ----------
+STACK_MODIFIER = "Seamless AO"               # the Geometry Nodes modifier, last in the stack
+STACK_GROUP = "Seamless AO UVs"              # its node group (found by STACK_VERSION_KEY)
+STACK_VERSION = 1
+STACK_VERSION_KEY = "seamless_ao_stack_version"   # on that node group
+HELPER_KEY = "seamless_ao_helper"            # on objects: the object holding what their bake saw
+HELPER_PREFIX = ".SeamlessAO "               # the helper object and mesh (in no scene)
+STALE_ATTRIBUTE = "seamless_ao_stale"        # 1 where the stack no longer gives what was baked: no AO shown
+
 # -- the shader nodes ------------------------------------------------------------------
 GROUP_NAME = "Seamless AO"                   # the node group (found by VERSION_KEY whatever it is called now)
-GROUP_VERSION = 1
+GROUP_VERSION = 2
 VERSION_KEY = "seamless_ao_version"          # on the node group
 NODE_PREFIX = "SeamlessAO "                  # every node the add-on adds to a material
 FRAME = NODE_PREFIX + "Frame"
 BLEND = NODE_PREFIX + "Blend"
 PREVIEW = NODE_PREFIX + "Preview"
+STALE_NODE = NODE_PREFIX + "Stale"
 
 # -- what the exports write (Clear removes it too) ---------------------------------------
 COLOR_ATTRIBUTE = "AO"

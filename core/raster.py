@@ -176,10 +176,10 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     if fixed_texel is not None and len(fixed_texel):
         member_map[fixed_texel] = fixed_member
         kind[fixed_texel] = COVERED
-    row_member, row_y, x0, x1 = _covered_rows(uv, height)
+    row_member, row_y, x0, x1 = covered_rows(uv, height)
     c0 = np.clip(np.ceil(x0 - 0.5), 0, width).astype(np.int64)
     c1 = np.clip(np.floor(x1 - 0.5), -1, width - 1).astype(np.int64)
-    for texel, owner in _expand_spans(row_y, c0, c1, row_member, width):
+    for texel, owner in expand_spans(row_y, c0, c1, row_member, width):
         member_map[texel] = live[owner]
         kind[texel] = COVERED
 
@@ -195,7 +195,7 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     n0 = np.clip(np.ceil(near_low - 1.5), 0, width).astype(np.int64)
     n1 = np.clip(np.floor(near_high + 0.5), -1, width - 1).astype(np.int64)
     winners = []
-    for texel, owner in _expand_spans(row_y, n0, n1, row_member, width):
+    for texel, owner in expand_spans(row_y, n0, n1, row_member, width):
         free = member_map[texel] < 0
         texel, owner = texel[free], owner[free]
         centre = np.stack([texel % width + 0.5, texel // width + 0.5], axis=1)
@@ -212,8 +212,11 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     return Texels(width, height, index, member_map[index].astype(np.int64), kind[index], ring[index])
 
 
-def _covered_rows(uv, height):
+def covered_rows(uv, height, half_open=False):
     """Every texel row whose centre line crosses a triangle, and the crossing's x-extent.
+
+    ``half_open``: a row exactly on a triangle's top corner belongs to the triangle above it (rows run
+    ``[y_low, y_high)``), so triangles that tile a region cover each row of centres once.
 
     Each edge is followed from its lower end (lower y, then lower x) with one
     slope, so two triangles sharing an edge compute the same crossing to the
@@ -241,7 +244,8 @@ def _covered_rows(uv, height):
 
     low_slope, first_slope, second_slope = slope(0, 2), slope(0, 1), slope(1, 2)
     first_row = np.clip(np.ceil(y[:, 0] - 0.5), 0, height).astype(np.int64)
-    last_row = np.clip(np.floor(y[:, 2] - 0.5), -1, height - 1).astype(np.int64)
+    last_row = np.clip((np.ceil(y[:, 2] - 0.5) - 1) if half_open else np.floor(y[:, 2] - 0.5), -1,
+                       height - 1).astype(np.int64)
     triangle, row = _rows(first_row, last_row)
     centre = row + 0.5
     x0, y0 = x[triangle, 0], y[triangle, 0]
@@ -267,7 +271,7 @@ def _best_per_texel(texel, score, owner):
     return texel[first], score[first], owner[first]
 
 
-def _expand_spans(row_y, x_start, x_end, owner, width):
+def expand_spans(row_y, x_start, x_end, owner, width):
     """Flat texel indices of the spans ``x_start..x_end`` (inclusive) of each row, and their owners.
 
     Yields ``(texel, owner)`` arrays of about :data:`CHUNK` entries at a time

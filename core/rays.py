@@ -179,6 +179,16 @@ class RayPart:
 Occluders = Callable
 
 
+def world_reach(mesh, matrix, settings):
+    """``(low (3,), high (3,), reach)``: the world box of ``mesh`` placed by ``matrix`` (4, 4) and how far its
+    rays reach (the maximum distance :func:`ao_params` gives it): what scene geometry can occlude it."""
+    matrix = np.asarray(matrix, dtype=np.float64)
+    world = mesh.positions @ matrix[:3, :3].T + matrix[:3, 3]
+    low, high = (world.min(axis=0), world.max(axis=0)) if len(world) else (np.zeros(3), np.zeros(3))
+    reach = 0.5 * mesh_size(world) if settings.auto_distance else settings.max_distance
+    return low, high, reach
+
+
 def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     """The :class:`RayPart` of one mesh of a bake.
 
@@ -204,8 +214,7 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     positions, triangles = [own], [world_winding(mesh.triangles, matrix[:3, :3])]
     if occluders is not None:
         shift = matrix[:3, :3] @ centre + matrix[:3, 3]               # ray space + shift = world
-        low, high = own.min(axis=0) + shift, own.max(axis=0) + shift
-        for world_positions, other_triangles in occluders(low, high, params.max_distance):
+        for world_positions, other_triangles in occluders(*world_reach(mesh, matrix, settings)):
             triangles.append(other_triangles + sum(len(p) for p in positions))
             positions.append(world_positions - shift)
     positions, triangles = np.concatenate(positions), np.concatenate(triangles)

@@ -170,6 +170,14 @@ class BakeSettings(_Settings):
         return self
 
 
+PACKING_ITEMS = (
+    ("GLTF", "glTF Occlusion", "Grey: the AO in R, G and B (glTF reads occlusion from R)"),
+    ("ORM", "ORM", "R occlusion, G roughness, B metallic (glTF's, Unreal's and Godot's packed texture), from the "
+     "materials' Roughness and Metallic values"),
+    ("UNITY_MASK", "Unity Mask Map", "R metallic, G occlusion, B detail mask (0), A smoothness (Unity URP and "
+     "HDRP); not for glTF occlusion, which reads R"),
+)
+
 DOMAIN_ITEMS = (
     ("CORNER", "Face Corner", "One value per face corner (sharp where the AO is)"),
     ("POINT", "Vertex", "One value per vertex (the corners averaged)"),
@@ -191,10 +199,16 @@ class ExportSettings(_Settings):
         True, "Material Strength",
         "Apply the Strength and Interreflection set on each material's Seamless AO node, as the material shows "
         "it (off: the AO as baked)")
+    packing: str = _setting("GLTF", "Packing", "Which channels of the resampled image carry the AO",
+                            items=PACKING_ITEMS)
+    unfit_uv_map: bool = _setting(
+        False, "Even If Unfit",
+        "Resample even onto a UV map that cannot hold the AO (UV space shared by several faces, tiling, or "
+        "faces with no UV area): the AO of one place then shows in another")
 
 
 #: What each export writes, and which of :class:`ExportSettings` it reads.
-RESAMPLE_FIELDS = ("uv_map", "size", "padding", "gltf_occlusion", "material_strength")
+RESAMPLE_FIELDS = ("uv_map", "size", "padding", "gltf_occlusion", "material_strength", "packing", "unfit_uv_map")
 COLOR_FIELDS = ("domain", "material_strength")
 
 

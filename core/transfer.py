@@ -36,7 +36,7 @@ def shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength=1.0, i
 
 
 def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=8, degenerate=None,
-                   strength=1.0, interreflection=0.0):
+                   strength=1.0, interreflection=0.0, per_triangle=None):
     """The blended AO laid out on another UV map (e.g. the user's unwrap).
 
     Parameters
@@ -52,11 +52,14 @@ def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=
         the rest of the image is filled smoothly from them.
     degenerate : (t,) bool, optional, triangles to skip
     strength, interreflection : float or (t,) float, the node's inputs (see :func:`shown_at`)
+    per_triangle : (t, c) float, optional, values of each triangle laid out on the same texels (the
+        material's roughness and metallic, for a packed image)
 
     Returns
     -------
     image : (height, width) float32
     coverage : (height, width) int8, 0 covered, 1 near, 2 padding, 3 filled
+    channels : (height, width, c) float32, ``per_triangle`` laid out (only when it is given)
     """
     width, height = (size, size) if np.isscalar(size) else size
     target = np.asarray(target_uv, dtype=np.float64) * [width, height]
@@ -74,7 +77,44 @@ def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=
     coverage = np.full(width * height, 3, dtype=np.int8)
     coverage[texels.index] = texels.kind
     filled = pull_push(image.reshape(height, width), weight.reshape(height, width))
-    return filled.astype(np.float32), coverage.reshape(height, width)
+    if per_triangle is None:
+        return filled.astype(np.float32), coverage.reshape(height, width)
+    per_triangle = np.asarray(per_triangle, dtype=np.float64).reshape(len(target), -1)
+    channels = np.empty((height, width, per_triangle.shape[1]), dtype=np.float32)
+    for c in range(per_triangle.shape[1]):
+        laid = np.zeros(width * height)
+        laid[texels.index] = per_triangle[texels.member, c]
+        channels[:, :, c] = pull_push(laid.reshape(height, width), weight.reshape(height, width))
+    return filled.astype(np.float32), coverage.reshape(height, width), channels
+
+
+#: How a resampled image carries the AO: ``(channel of the AO, channel of roughness, of metallic, of smoothness)``
+#: (-1: not carried); the rest of RGBA is the AO (grey) or 1.
+PACKINGS = {
+    "GLTF": (0, -1, -1, -1),          # grey: glTF reads occlusion from R
+    "ORM": (0, 1, 2, -1),             # occlusion, roughness, metallic: glTF's and Unreal's and Godot's ORM
+    "UNITY_MASK": (1, -1, 0, 3),      # Unity URP/HDRP mask map: metallic, occlusion, detail mask, smoothness
+}
+
+
+def pack_channels(ao, packing, roughness=None, metallic=None):
+    """(h, w, 4) RGBA of the AO ``ao`` (h, w) packed as ``packing`` (:data:`PACKINGS`), with the material's
+    ``roughness`` and ``metallic`` (h, w) where the packing carries them (0.5 and 0 when not given)."""
+    ao = np.asarray(ao, dtype=np.float32)
+    roughness = np.full_like(ao, 0.5) if roughness is None else np.asarray(roughness, dtype=np.float32)
+    metallic = np.zeros_like(ao) if metallic is None else np.asarray(metallic, dtype=np.float32)
+    occlusion, rough, metal, smooth = PACKINGS[packing]
+    rgba = np.ones(ao.shape + (4,), dtype=np.float32)
+    if packing == "GLTF":
+        rgba[:, :, :3] = ao[:, :, None]
+        return rgba
+    if packing == "UNITY_MASK":
+        rgba[:, :, 2] = 0.0                                    # no detail mask
+    rgba[:, :, occlusion] = ao
+    for channel, values in ((rough, roughness), (metal, metallic), (smooth, 1.0 - roughness)):
+        if channel >= 0:
+            rgba[:, :, channel] = values
+    return rgba
 
 
 def corner_values(ao_image, layer_uv, corner_normals, strength=1.0, interreflection=0.0):

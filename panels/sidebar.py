@@ -2,6 +2,8 @@
 
 import bpy
 
+from ..operators.ui.poll import stale_bakes
+
 
 class SidebarPanel:
     """What every Seamless AO panel shares: where it lives, and a property-split column."""
@@ -41,6 +43,12 @@ class VIEW3D_PT_seamless_ao(SidebarPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.operator("object.seamless_ao_clear", icon="TRASH")
         row.prop(settings, "preview", toggle=True, icon="HIDE_OFF")
+        stale = stale_bakes(context)
+        if stale:
+            box = layout.box()
+            box.label(text="AO not shown on {}".format(", ".join(ob.name for ob in stale)), icon="ERROR")
+            box.label(text="The modifiers here give another surface than the one baked.")
+            box.label(text="Bake again (the render stack is what is baked).")
         if settings.last_bake_summary:
             box = layout.box()
             box.label(text="Last bake", icon="INFO")
@@ -103,7 +111,8 @@ class VIEW3D_PT_seamless_ao_export(SubPanel, bpy.types.Panel):
             column.prop_search(settings, "export_uv_map", ob.data, "uv_layers")
         else:
             column.prop(settings, "export_uv_map")
-        for name in ("export_size", "export_padding", "export_gltf_occlusion", "export_material_strength"):
+        for name in ("export_size", "export_padding", "export_gltf_occlusion", "export_material_strength",
+                     "export_packing", "export_unfit_uv_map"):
             column.prop(settings, name)
         column.operator("object.seamless_ao_resample", icon="UV")
         column.separator()

@@ -10,7 +10,8 @@ puts back.
 
 import bpy
 
-from ..core.keys import AO_LAYERS, AXES, BLEND, CREATED_KEY, FRAME, NODES_KEY, NODE_PREFIX, PREVIEW, SURFACE_KEY
+from ..core.keys import (AO_LAYERS, AXES, BLEND, CREATED_KEY, FRAME, NODE_PREFIX, NODES_KEY, PREVIEW, STALE_ATTRIBUTE,
+                         STALE_NODE, SURFACE_KEY)
 from .node_group import node_group
 
 
@@ -100,6 +101,13 @@ def hook_material(material, image, multiply=True):
         texture.location = (left + 180.0, top - 200.0 * row)
         links.new(uv.outputs["UV"], texture.inputs["Vector"])
         links.new(texture.outputs["Color"], group_node.inputs["AO " + axis])
+    stale = nodes.get(STALE_NODE) or nodes.new("ShaderNodeAttribute")
+    stale.name, stale.label = STALE_NODE, "Stale AO"
+    stale.attribute_type = "GEOMETRY"
+    stale.attribute_name = STALE_ATTRIBUTE
+    stale.parent = frame
+    stale.location = (left + 180.0, top - 600.0)
+    links.new(stale.outputs["Fac"], group_node.inputs["Stale"])
 
     for principled in [n for n in nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"]:
         existing = nodes.get(multiply_node_name(principled))

@@ -6,11 +6,12 @@ holds the image lookups and the group only does the math):
     material:   UV Map AO_X -> Image Texture (the object's AO image) -> group input "AO X"
                 UV Map AO_Y -> Image Texture                         -> group input "AO Y"
                 UV Map AO_Z -> Image Texture                         -> group input "AO Z"
+                Attribute seamless_ao_stale (0 where absent)         -> group input "Stale"
     group:      Texture Coordinate > Normal (object space) n
                 w = (nx², ny², nz²) / (nx² + ny² + nz²)
                 ao = w.x * AO X + w.y * AO Y + w.z * AO Z
                 ao' = ao / (1 - c (1 - ao))          (RTR §9.2.4 interreflection, c = Interreflection)
-                AO = 1 - Strength * (1 - ao')
+                AO = max(1 - Strength * (1 - ao'), Stale)
 
 So one group serves every object and every material; each material's Image
 Texture nodes point at its object's image (objects baked together share one
@@ -62,6 +63,8 @@ def _build(group):
     _socket(group, "Strength", "INPUT", "NodeSocketFloat", 1.0, 0.0, 1.0, "0 = no AO, 1 = full AO")
     _socket(group, "Interreflection", "INPUT", "NodeSocketFloat", 0.0, 0.0, 0.95,
             "Brighten AO for light bounced between surfaces (RTR 9.2.4): ao / (1 - c (1 - ao))")
+    _socket(group, "Stale", "INPUT", "NodeSocketFloat", 0.0, 0.0, 1.0,
+            "1 where the modifier stack no longer gives the surface that was baked: no AO is shown there")
     _socket(group, "AO", "OUTPUT", "NodeSocketFloat", description="Ambient occlusion, 1 = open, 0 = occluded")
     nodes, links = group.nodes, group.links
 
@@ -105,4 +108,6 @@ def _build(group):
     brightened = math("DIVIDE", blended, denominator, x=500, clamp=True)
     darkening = math("MULTIPLY", inputs.outputs["Strength"], math("SUBTRACT", 1.0, brightened, x=600), x=650)
     result = math("SUBTRACT", 1.0, darkening, x=750, clamp=True)
-    links.new(result, outputs.inputs["AO"])
+    # stale: 1 (no AO) instead of AO read through UV maps that no longer fit the surface
+    shown = math("MAXIMUM", result, inputs.outputs["Stale"], x=850)
+    links.new(shown, outputs.inputs["AO"])

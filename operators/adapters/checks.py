@@ -15,7 +15,6 @@ def check_objects(objects, settings):
     """Raise :class:`SeamlessAOError` with one clear sentence for input that cannot be baked."""
     if not objects:
         raise SeamlessAOError("Select a mesh object to bake")
-    seen_meshes = {}
     for ob in objects:
         if ob is not None and ob.type == "EMPTY" and ob.instance_type == "COLLECTION" and ob.instance_collection:
             raise SeamlessAOError(
@@ -30,12 +29,7 @@ def check_objects(objects, settings):
                 ob.name))
         if ob.mode == "EDIT":
             raise SeamlessAOError("'{}' is in Edit Mode; press Tab to leave it before baking".format(ob.name))
-        if ob.data.name in seen_meshes:
-            raise SeamlessAOError(
-                "'{}' and '{}' share one mesh, so they would share UV maps; bake one of them, or make the mesh "
-                "single-user".format(seen_meshes[ob.data.name], ob.name))
-        seen_meshes[ob.data.name] = ob.name
-        if not len(ob.data.polygons):
+        if not len(ob.data.polygons) and not any(m.show_render for m in ob.modifiers):
             raise SeamlessAOError("'{}' has no faces to bake (only vertices or loose edges)".format(ob.name))
         if flattened(np.array(ob.matrix_world, dtype=np.float64)[:3, :3]):
             raise SeamlessAOError(

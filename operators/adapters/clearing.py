@@ -2,9 +2,10 @@
 
 import bpy
 
-from ...core.keys import AO_LAYERS, CREATED_KEY, IMAGE_KEY, MATERIAL_KEY, OURS_KEY
+from ...core.keys import AO_LAYERS, CREATED_KEY, HELPER_KEY, IMAGE_KEY, MATERIAL_KEY, OURS_KEY
 from ...shaders import material as material_nodes
 from ...shaders.node_group import find_node_group
+from . import stack
 from .exports import clear_exports
 
 
@@ -19,6 +20,15 @@ def clear(objects):
             continue
         touched = False
         mesh = ob.data
+        modifier, helper = stack.stack_modifier(ob), stack.helper_of(ob)
+        if modifier is not None:
+            ob.modifiers.remove(modifier)
+            touched = True
+        if helper is not None:
+            stack.remove_helper(helper)
+            touched = True
+        if ob.get(HELPER_KEY) is not None:
+            del ob[HELPER_KEY]
         for name in AO_LAYERS:
             layer = mesh.uv_layers.get(name)
             if layer is not None:
@@ -48,7 +58,7 @@ def clear(objects):
             del ob[IMAGE_KEY]
             touched = True
         cleared += touched
-    group = find_node_group()
-    if group is not None and group.users == 0:
-        bpy.data.node_groups.remove(group)
+    for group in (find_node_group(), stack.find_stack_group()):
+        if group is not None and group.users == 0:
+            bpy.data.node_groups.remove(group)
     return cleared

@@ -9,33 +9,62 @@ Both need a bake (AO_X/Y/Z and the AO image) and evaluate exactly what the
 ``Seamless AO`` node group shows; no ray is cast.
 """
 
+from dataclasses import dataclass
+
 import bpy
 import numpy as np
 
 from ...core.errors import SeamlessAOError
 from ...core.keys import (AO_LAYERS, BLEND, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_KEY, FRAME, GLTF_GROUP, GLTF_NODES,
                           IMAGE_KEY, OURS_KEY)
+from ...core.mesh import TriangleMesh
 from ...core.settings import ExportSettings
-from ...core.transfer import corner_values, resample_to_uv, vertex_average
+from ...core.transfer import corner_values, pack_channels, resample_to_uv, vertex_average
+from ...core.uv_fitness import uv_fitness
 from ...shaders import material as material_nodes
-from .mesh_data import read_object
+from . import stack
+from .mesh_data import Topology, evaluated_mesh, read_triangles, render_evaluation
 from .writes import store_float_image
 
 DEFAULTS = ExportSettings()
 
 
-def _baked_inputs(ob):
-    """AO image array, per-triangle layer UVs, target-ready triangle loops and corner normals of a baked object."""
+@dataclass
+class Baked:
+    """What a bake left on an object, read as the object renders."""
+
+    ao_image: np.ndarray        # (h, w) float64
+    layer_uv: np.ndarray        # (t, 3 layers, 3 corners, 2): each triangle's AO_X/Y/Z UVs
+    loops: np.ndarray           # (t, 3) int64: the evaluated mesh's corner of each triangle corner
+    mesh: TriangleMesh          # the evaluated mesh
+    material_index: np.ndarray  # (f,) int32 per evaluated face
+    target_uv: np.ndarray       # (t, 3, 2) the asked UV map at each triangle corner, or None
+    on_base: bool               # the evaluated corners are the base mesh's (else the AO is through the stack)
+
+
+def _baked_inputs(ob, target=None):
+    """:class:`Baked` of a baked object, as it renders; ``target``: a UV map of its own to read too."""
     if ob is None or ob.type != "MESH":
         raise SeamlessAOError("'{}' is not a mesh".format(getattr(ob, "name", ob)))
-    mesh = ob.data
     image = bpy.data.images.get(ob.get(IMAGE_KEY, ""))
-    if image is None or any(name not in mesh.uv_layers for name in AO_LAYERS):
+    helper = stack.helper_of(ob)
+    holder = helper.data if helper is not None else ob.data
+    if image is None or any(name not in holder.uv_layers for name in AO_LAYERS):
         raise SeamlessAOError("'{}' has no Seamless AO bake; bake it first".format(ob.name))
-    triangle_mesh, loops = read_object(ob, bpy.context.evaluated_depsgraph_get())
-    ao_image = image_values(image).astype(np.float64)
-    layer_uv = np.stack([_loop_uv(mesh, name)[loops] for name in AO_LAYERS], axis=1)   # (t, 3, 3, 2)
-    return ao_image, layer_uv, loops, triangle_mesh
+    with render_evaluation([ob]):
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        with evaluated_mesh(ob, depsgraph) as evaluated:
+            triangle_mesh, loops = read_triangles(evaluated)
+            topology = Topology.of(evaluated)
+            material_index = np.zeros(len(evaluated.polygons), dtype=np.int32)
+            evaluated.polygons.foreach_get("material_index", material_index)
+            target_uv = _loop_uv(evaluated, target)[loops] if target else None
+    if not topology.same_as(holder):
+        raise SeamlessAOError("'{}' no longer has the surface it was baked with (its modifiers changed); bake it "
+                              "again first".format(ob.name))
+    layer_uv = np.stack([_loop_uv(holder, name)[loops] for name in AO_LAYERS], axis=1)   # (t, 3, 3, 2)
+    return Baked(image_values(image).astype(np.float64), layer_uv, loops, triangle_mesh, material_index, target_uv,
+                 helper is None)
 
 
 def image_values(image):
@@ -46,15 +75,38 @@ def image_values(image):
     return pixels.reshape(height, width, 4)[:, :, 0]
 
 
-def node_inputs(ob, triangle_face, use):
-    """(strength (t,), interreflection (t,)) of each triangle: its face's material's ``Seamless AO`` node
-    inputs, or (1, 0) everywhere when ``use`` is off."""
+def uv_map_fitness(ob, name):
+    """:class:`~...core.uv_fitness.UVFitness` of ``ob``'s UV map ``name`` as it renders."""
+    with render_evaluation([ob]):
+        with evaluated_mesh(ob, bpy.context.evaluated_depsgraph_get()) as evaluated:
+            mesh, loops = read_triangles(evaluated)
+            uv = _loop_uv(evaluated, name)[loops]
+    return uv_fitness(uv, mesh.triangle_area)
+
+
+def material_values(ob, baked):
+    """(t, 2) each triangle's material's Roughness and Metallic (a Principled BSDF's values; 0.5 and 0 without
+    one), for the packed images that carry them."""
+    per_slot = []
+    for slot in ob.material_slots or [None]:
+        material = getattr(slot, "material", None)
+        principled = None
+        if material is not None and material.node_tree is not None:
+            principled = next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"),
+                              None)
+        per_slot.append((principled.inputs["Roughness"].default_value, principled.inputs["Metallic"].default_value)
+                        if principled is not None else (0.5, 0.0))
+    slot = np.clip(baked.material_index[baked.mesh.triangle_face], 0, len(per_slot) - 1)
+    return np.array(per_slot, dtype=np.float64)[slot]
+
+
+def node_inputs(ob, baked, use):
+    """(strength (t,), interreflection (t,)) of each triangle of :class:`Baked` ``baked``: its face's material's
+    ``Seamless AO`` node inputs, or (1, 0) everywhere when ``use`` is off."""
     if not use:
         return 1.0, 0.0
     per_slot = np.array([material_nodes.blend_inputs(slot.material) for slot in ob.material_slots] or [(1.0, 0.0)])
-    material_index = np.zeros(len(ob.data.polygons), dtype=np.int32)
-    ob.data.polygons.foreach_get("material_index", material_index)
-    slot = np.clip(material_index[triangle_face], 0, len(per_slot) - 1)
+    slot = np.clip(baked.material_index[baked.mesh.triangle_face], 0, len(per_slot) - 1)
     return per_slot[slot, 0], per_slot[slot, 1]
 
 
@@ -84,7 +136,8 @@ def own_uv_map(ob, name=None):
 
 
 def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
-             gltf_occlusion=DEFAULTS.gltf_occlusion, material_strength=DEFAULTS.material_strength):
+             gltf_occlusion=DEFAULTS.gltf_occlusion, material_strength=DEFAULTS.material_strength,
+             packing=DEFAULTS.packing, unfit_uv_map=DEFAULTS.unfit_uv_map):
     """Write each object's blended AO into a new image on one of its own UV maps.
 
     Parameters
@@ -100,21 +153,38 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
     material_strength : bool
         Apply each material's Strength and Interreflection (the ``Seamless AO``
         node's inputs), so the texture shows what the material shows.
+    packing : {"GLTF", "ORM", "UNITY_MASK"}
+        Which channels carry the AO (:data:`~...core.transfer.PACKINGS`).
+    unfit_uv_map : bool
+        Resample even onto a UV map that cannot hold the AO
+        (:func:`~...core.uv_fitness.uv_fitness`); by default that is refused
+        with what is wrong with it.
 
     Returns
     -------
     list of image names (``<object>_AO_<uv map>``)
     """
     settings = ExportSettings.from_kwargs(uv_map=uv_map or "", size=size, padding=padding,
-                                          gltf_occlusion=gltf_occlusion, material_strength=material_strength)
+                                          gltf_occlusion=gltf_occlusion, material_strength=material_strength,
+                                          packing=packing, unfit_uv_map=unfit_uv_map)
+    if settings.packing == "UNITY_MASK" and settings.gltf_occlusion:
+        raise SeamlessAOError("a Unity mask map carries the AO in G, and glTF reads occlusion from R: turn glTF "
+                              "occlusion off to write one")
     names = []
     for ob in objects:
         target = own_uv_map(ob, settings.uv_map or None)
-        ao_image, layer_uv, loops, mesh = _baked_inputs(ob)
-        target_uv = _loop_uv(ob.data, target)[loops]
-        values, _ = resample_to_uv(ao_image, layer_uv, mesh.corner_normals, target_uv, settings.size,
-                                   settings.padding, mesh.degenerate,
-                                   *node_inputs(ob, mesh.triangle_face, settings.material_strength))
+        baked = _baked_inputs(ob, target)
+        fitness = uv_fitness(baked.target_uv, baked.mesh.triangle_area)
+        if not fitness.can_hold_ao and not settings.unfit_uv_map:
+            raise SeamlessAOError("'{}': its UV map '{}' cannot hold the AO: {}; pick another UV map, or resample "
+                                  "anyway (Even If Unfit)".format(ob.name, target, "; ".join(fitness.problems())))
+        carried = None if settings.packing == "GLTF" else material_values(ob, baked)
+        laid = resample_to_uv(baked.ao_image, baked.layer_uv, baked.mesh.corner_normals, baked.target_uv,
+                              settings.size, settings.padding, baked.mesh.degenerate,
+                              *node_inputs(ob, baked, settings.material_strength), per_triangle=carried)
+        values = laid[0]
+        if carried is not None:
+            values = pack_channels(values, settings.packing, laid[2][:, :, 0], laid[2][:, :, 1])
         image, _ = store_float_image("{}_AO_{}".format(ob.name, target), values, marks=(OURS_KEY, EXPORT_KEY),
                                      keep_undo=False)
         if settings.gltf_occlusion:
@@ -172,12 +242,17 @@ def to_color_attribute(objects, domain=DEFAULTS.domain, material_strength=DEFAUL
     settings = ExportSettings.from_kwargs(domain=domain, material_strength=material_strength)
     domain = settings.domain
     for ob in objects:
-        ao_image, layer_uv, loops, mesh = _baked_inputs(ob)
-        values = corner_values(ao_image, layer_uv, mesh.corner_normals,
-                               *node_inputs(ob, mesh.triangle_face, settings.material_strength))   # (t, 3)
+        baked = _baked_inputs(ob)
+        if not baked.on_base:
+            raise SeamlessAOError(
+                "'{}' is baked through its modifier stack (its modifiers change its faces, or its mesh is shared), "
+                "so a colour attribute on its mesh cannot hold the AO of the surface that renders; resample the "
+                "AO onto a UV map instead".format(ob.name))
+        values = corner_values(baked.ao_image, baked.layer_uv, baked.mesh.corner_normals,
+                               *node_inputs(ob, baked, settings.material_strength))   # (t, 3)
         data = ob.data
         per_loop = np.ones(len(data.loops))
-        per_loop[loops.ravel()] = values.ravel()
+        per_loop[baked.loops.ravel()] = values.ravel()
         if domain == "POINT":
             vertex = np.empty(len(data.loops), dtype=np.int32)
             data.loops.foreach_get("vertex_index", vertex)

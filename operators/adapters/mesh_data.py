@@ -1,12 +1,23 @@
-"""Read Blender meshes into the core's arrays: the baked objects (modifiers applied) and scene occluders."""
+"""Read Blender meshes into the core's arrays: the baked objects as they render, and scene occluders
+(objects, collection instances, Geometry Nodes and particle instances, modifier stacks evaluated).
+
+A bake reads everything inside :func:`render_evaluation`: modifiers shown at
+render time are shown, those hidden at render time hidden, Subdivision and
+Multires at their render levels.  So the AO that renders is the AO of the
+surface that renders, whatever the viewport shows.
+"""
 
 import contextlib
+from dataclasses import dataclass
 
 import numpy as np
 
-from ...core.errors import SeamlessAOError
+from ...core.keys import STACK_MODIFIER
 from ...core.mesh import TriangleMesh, boxes_near
 from ...core.rays import world_winding
+
+#: Modifiers whose viewport and render levels may differ: (viewport property, render property).
+LEVELS = {"SUBSURF": ("levels", "render_levels"), "MULTIRES": ("levels", "render_levels")}
 
 
 def vertex_positions(mesh):
@@ -71,6 +82,59 @@ def read_triangles(mesh):
     return triangle_mesh, loops
 
 
+@dataclass
+class Topology:
+    """The evaluated mesh's corners as a bake saw them, enough to rebuild a mesh with the same corner order
+    (where a Seamless AO modifier finds the UVs it stores, by corner index)."""
+
+    positions: np.ndarray        # (v, 3) float32
+    corner_vert: np.ndarray      # (l,) int32, the vertex of each corner
+    loop_start: np.ndarray       # (f,) int32, each face's first corner
+
+    @classmethod
+    def of(cls, mesh):
+        loop_start = np.empty(len(mesh.polygons), dtype=np.int32)
+        mesh.polygons.foreach_get("loop_start", loop_start)
+        return cls(vertex_positions(mesh).reshape(-1, 3), loop_vertices(mesh), loop_start)
+
+    def counts(self):
+        """``(points, faces, corners)``, what the modifier compares to know the stack still fits."""
+        return len(self.positions), len(self.loop_start), len(self.corner_vert)
+
+    def same_as(self, mesh):
+        """True if ``mesh`` (a ``bpy.types.Mesh``) has these counts and these corners' vertices."""
+        return ((len(mesh.vertices), len(mesh.polygons), len(mesh.loops)) == self.counts()
+                and np.array_equal(loop_vertices(mesh), self.corner_vert))
+
+
+@contextlib.contextmanager
+def render_evaluation(objects):
+    """``with render_evaluation(objects):`` the depsgraph evaluates these objects as they render.
+
+    Every modifier's viewport switch takes its render switch, Subdivision and
+    Multires take their render levels, and Seamless AO's own modifier (it only
+    carries UV maps) is off; all of it is put back on exit.
+    """
+    changed = []
+
+    def change(owner, name, value):
+        if getattr(owner, name) != value:
+            changed.append((owner, name, getattr(owner, name)))
+            setattr(owner, name, value)
+    try:
+        for ob in objects:
+            for modifier in getattr(ob, "modifiers", ()):
+                ours = modifier.type == "NODES" and modifier.name == STACK_MODIFIER
+                change(modifier, "show_viewport", False if ours else modifier.show_render)
+                viewport, render = LEVELS.get(modifier.type, (None, None))
+                if viewport is not None:
+                    change(modifier, viewport, getattr(modifier, render))
+        yield
+    finally:
+        for owner, name, value in reversed(changed):
+            setattr(owner, name, value)
+
+
 @contextlib.contextmanager
 def evaluated_mesh(ob, depsgraph):
     """``with evaluated_mesh(ob, depsgraph) as mesh``: ``ob``'s mesh with modifiers applied, freed on exit."""
@@ -83,52 +147,52 @@ def evaluated_mesh(ob, depsgraph):
 
 
 def read_object(ob, depsgraph):
-    """:func:`read_triangles` of ``ob``'s evaluated mesh, whose loops must be its own mesh's (the UV maps
-    are written there): a clear error if the modifiers change the topology."""
+    """``ob`` as ``depsgraph`` evaluates it: :func:`read_triangles` of its evaluated mesh, and that mesh's
+    :class:`Topology`, and whether its corners are its base mesh's (the bake's UV maps can then be written
+    on the base mesh, which deforming modifiers carry through)."""
     with evaluated_mesh(ob, depsgraph) as mesh:
-        base = ob.data
-        if (len(mesh.vertices), len(mesh.loops), len(mesh.polygons)) != (
-                len(base.vertices), len(base.loops), len(base.polygons)):
-            changing = [m.name for m in ob.modifiers if m.show_viewport] or ["(geometry nodes or shape)"]
-            raise SeamlessAOError(
-                "'{}': the modifiers {} change the mesh's topology, so the AO UV maps could not follow them; "
-                "apply them or turn them off in the viewport (deforming modifiers are fine)".format(
-                    ob.name, ", ".join(changing)))
-        return read_triangles(mesh)
+        triangle_mesh, loops = read_triangles(mesh)
+        topology = Topology.of(mesh)
+    return triangle_mesh, loops, topology, topology.same_as(ob.data)
 
 
-def scene_occluders(boxes, depsgraph, exclude, low, high, reach):
-    """(world positions (v, 3) float64, triangles (t, 3) int64) of every mesh in ``boxes`` (see
-    :func:`mesh_boxes`) but ``exclude`` whose bounds come within ``reach`` (the maximum ray distance) of
-    the world box ``low``..``high`` (3,) of what is baked: farther ones cannot occlude, so they are not
-    even read."""
-    for other in near_objects(boxes, exclude, low, high, reach):
-        with evaluated_mesh(other, depsgraph) as mesh:
-            positions, triangles = triangle_arrays(mesh)
-        if not len(triangles):
+def world_boxes(depsgraph):
+    """``(instances, low (k, 3), high (k, 3))``: every mesh the depsgraph shows (objects, collection instances,
+    Geometry Nodes and particle instances, modifiers evaluated), each as ``(evaluated object, world matrix,
+    is an instance)``, with its world bounding box (read once per bake: with hundreds of objects baked
+    together, reading them again for each took seconds)."""
+    instances, corners = [], []
+    for instance in depsgraph.object_instances:
+        ob = instance.object
+        if ob.type != "MESH":
             continue
-        matrix = np.array(other.matrix_world, dtype=np.float64)
-        yield positions @ matrix[:3, :3].T + matrix[:3, 3], world_winding(triangles, matrix[:3, :3])
+        instances.append((ob, np.array(instance.matrix_world, dtype=np.float64), bool(instance.is_instance)))
+        corners.append(np.array(ob.bound_box, dtype=np.float64))
+    if not instances:
+        return instances, np.zeros((0, 3)), np.zeros((0, 3))
+    matrices = np.array([matrix for _, matrix, _ in instances])
+    world = np.einsum("kij,kcj->kci", matrices[:, :3, :3], np.array(corners)) + matrices[:, None, :3, 3]
+    return instances, world.min(axis=1), world.max(axis=1)
 
 
-def mesh_boxes(scene, depsgraph):
-    """``(objects, low (k, 3), high (k, 3))``: the visible mesh objects of ``scene`` and their world
-    bounding boxes (read once per bake: with hundreds of objects baked together, reading them again for
-    each took seconds)."""
-    objects = [other for other in scene.objects if other.type == "MESH" and other.visible_get()]
-    if not objects:
-        return objects, np.zeros((0, 3)), np.zeros((0, 3))
-    corners = np.array([other.evaluated_get(depsgraph).bound_box for other in objects], dtype=np.float64)
-    matrices = np.array([other.matrix_world for other in objects], dtype=np.float64)          # (k, 4, 4)
-    world = np.einsum("kij,kcj->kci", matrices[:, :3, :3], corners) + matrices[:, None, :3, 3]
-    return objects, world.min(axis=1), world.max(axis=1)
-
-
-def near_objects(boxes, exclude, low, high, reach):
-    """The objects of ``boxes`` (see :func:`mesh_boxes`) but ``exclude`` whose world bounding boxes
-    come within ``reach`` of the box ``low``..``high``."""
-    objects, lows, highs = boxes
-    if not objects:
-        return []
-    near = boxes_near(low, high, lows, highs, reach)
-    return [other for other, keep in zip(objects, near) if keep and other is not exclude]
+def scene_occluders(boxes, exclude, low, high, reach):
+    """``[(world positions (v, 3) float64, triangles (t, 3) int64)]`` of the meshes of ``boxes`` (see
+    :func:`world_boxes`) whose bounds come within ``reach`` (the maximum ray distance) of the world box
+    ``low``..``high`` of what is baked: farther ones cannot occlude, so they are not even read.  The object
+    ``exclude`` (the baked one) is left out where it stands itself, not where an instance shows a copy.
+    Meshes shown many times (scattered instances) are read once."""
+    instances, lows, highs = boxes
+    geometry, cache = [], {}
+    if not instances:
+        return geometry
+    for (ob, matrix, is_instance), keep in zip(instances, boxes_near(low, high, lows, highs, reach)):
+        if not keep or (not is_instance and ob.original == exclude):
+            continue
+        mesh = ob.data
+        key = mesh.as_pointer()
+        if key not in cache:
+            cache[key] = triangle_arrays(mesh)
+        positions, triangles = cache[key]
+        if len(triangles):
+            geometry.append((positions @ matrix[:3, :3].T + matrix[:3, 3], world_winding(triangles, matrix[:3, :3])))
+    return geometry

@@ -20,25 +20,30 @@ import time
 import bpy
 import numpy as np
 
-from ...core.errors import BakeCancelled
+from ...core.errors import BakeCancelled, SeamlessAOError
 from ...core.keys import IMAGE_KEY
 from ...core.pipeline import BakePipeline
+from ...core.rays import world_reach
 from ...core.settings import BakeSettings
 from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
-from .mesh_data import mesh_boxes, read_object, scene_occluders
+from .mesh_data import Topology, read_object, render_evaluation, scene_occluders, world_boxes
 from .scene_settings import settings_from
 from .writes import Transaction, image_file_path, save_image_file
 
 
 @dataclasses.dataclass
 class BakedObject:
-    """One object of a bake, as read: the object, its triangles' face corners (to write UVs back) and its world
-    matrix."""
+    """One object of a bake, as read (as it renders): the object, its triangles' face corners in the
+    evaluated mesh (to write UVs back), its world matrix, the evaluated corners, and where the UV maps go:
+    on its mesh, or (``through_stack``: its modifiers change the topology, or its mesh is shared with
+    another baked object) through a ``Seamless AO`` modifier (:mod:`.stack`)."""
 
     ob: bpy.types.Object
-    loops: np.ndarray           # (t, 3) int64, the loop of each triangle corner
+    loops: np.ndarray           # (t, 3) int64, the evaluated mesh's corner of each triangle corner
     matrix: np.ndarray          # (4, 4) float64
+    topology: Topology
+    through_stack: bool
 
 
 @dataclasses.dataclass
@@ -80,23 +85,24 @@ class BakeSession:
     the :class:`BakeReport`.
     """
 
-    def __init__(self, objects, settings, scene=None, depsgraph=None):
+    def __init__(self, objects, settings, scene=None):
         self.objects = list(objects)
         self.settings = settings
         self.scene = scene or bpy.context.scene
-        self.depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
         self.pipeline = None
         self.report = None
         self.started = time.perf_counter()
+        bpy.context.evaluated_depsgraph_get()          # transforms set by a script are evaluated before the checks
         check_objects(self.objects, settings)
 
     def steps(self):
         """Read, then core's pipeline step by step, then write; yields ``(fraction, message)``."""
         try:
             yield 0.0, "Reading meshes"
-            meshes, self.baked = self._read_meshes()
+            meshes, self.baked, occluders = self._read_meshes()
             self.pipeline = BakePipeline(meshes, [b.matrix for b in self.baked], self.settings,
-                                         caster_maker(self.settings), self._occluders(), free_casters)
+                                         caster_maker(self.settings), lambda part, *_: occluders[part],
+                                         free_casters)
             yield from self.pipeline.steps()
             result = self.pipeline.result
             yield 0.96, "Writing image, UV maps and materials"
@@ -136,24 +142,30 @@ class BakeSession:
     # -- reading ---------------------------------------------------------------
 
     def _read_meshes(self):
-        meshes, baked = [], []
+        """The baked objects and, if asked, the scene geometry near each, all as they render; returns the
+        meshes, the :class:`BakedObject` of each and each one's occluders (world geometry)."""
+        meshes, baked, occluders = [], [], []
+        users = {}
         for ob in self.objects:
-            triangle_mesh, loops = read_object(ob, self.depsgraph)
-            meshes.append(triangle_mesh)
-            baked.append(BakedObject(ob, loops, np.array(ob.matrix_world, dtype=np.float64)))
+            users[ob.data] = users.get(ob.data, 0) + 1
+        # as they render: the baked objects, and every object when the scene's may occlude them
+        evaluated = self.scene.objects if self.settings.use_scene_occluders else self.objects
+        with render_evaluation(evaluated):
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+            for ob in self.objects:
+                triangle_mesh, loops, topology, on_base = read_object(ob, depsgraph)
+                if not len(triangle_mesh.triangles):
+                    raise SeamlessAOError("'{}' has no faces to bake as it renders (its modifiers leave none)".format(
+                        ob.name))
+                matrix = np.array(ob.matrix_world, dtype=np.float64)
+                meshes.append(triangle_mesh)
+                baked.append(BakedObject(ob, loops, matrix, topology, not on_base or users[ob.data] > 1))
+            boxes = world_boxes(depsgraph) if self.settings.use_scene_occluders else None
+            for ob, mesh, part in zip(self.objects, meshes, baked):
+                occluders.append(scene_occluders(boxes, ob, *world_reach(mesh, part.matrix, self.settings))
+                                 if boxes is not None else [])
         self.fingerprints = [mesh_fingerprint(ob) for ob in self.objects]
-        return meshes, baked
-
-    def _occluders(self):
-        """``(part, low, high, reach) -> geometry`` of the scene's other meshes near baked object ``part``
-        (the scene's bounding boxes read once, the first time they are asked for)."""
-        boxes = []
-
-        def occluders(part, low, high, reach):
-            if not boxes:
-                boxes.append(mesh_boxes(self.scene, self.depsgraph))
-            return scene_occluders(boxes[0], self.depsgraph, self.objects[part], low, high, reach)
-        return occluders
+        return meshes, baked, occluders
 
     # -- writing ---------------------------------------------------------------
 
@@ -177,7 +189,12 @@ class BakeSession:
             self.image_name = image.name
             layer_uv = result.layer_uv
             for part, baked in enumerate(self.baked):
-                transaction.uv_maps(baked.ob.data, baked.loops, layer_uv[result.part_triangles(part)])
+                part_uv = layer_uv[result.part_triangles(part)]
+                if baked.through_stack:
+                    transaction.stack_uv_maps(baked.ob, baked.topology, baked.loops, part_uv)
+                else:
+                    transaction.drop_stack(baked.ob)
+                    transaction.uv_maps(baked.ob.data, baked.loops, part_uv)
             transaction.node_group()
             for ob in self.objects:
                 warnings += transaction.materials(ob, image, self.settings.hook_materials, self.objects)

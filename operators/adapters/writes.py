@@ -11,10 +11,12 @@ import os
 import bpy
 import numpy as np
 
-from ...core.keys import AO_LAYERS, GROUP_VERSION, IMAGE_KEY, MATERIAL_KEY, OURS_KEY, SAVE_COPY, VERSION_KEY
+from ...core.keys import (AO_LAYERS, GROUP_VERSION, HELPER_KEY, IMAGE_KEY, MATERIAL_KEY, OURS_KEY, SAVE_COPY,
+                          STACK_MODIFIER, VERSION_KEY)
 from ...core.png import png16
 from ...shaders import material as material_nodes
 from ...shaders.node_group import find_node_group, node_group as build_node_group
+from . import stack
 
 
 class Transaction:
@@ -126,6 +128,68 @@ class Transaction:
         self.undo.append(lambda mesh=mesh, active=active, render=render: _restore_active(mesh, active, render))
         _restore_active(mesh, active, render)
 
+    def stack_uv_maps(self, ob, topology, loops, layer_uv):
+        """UV maps AO_X/Y/Z for an object whose stack changes its topology (or whose mesh is shared): a
+        helper holding the baked corners and the maps, and the ``Seamless AO`` modifier, last in the stack,
+        that stores them onto the evaluated mesh (:mod:`.stack`).  A helper from an earlier bake is kept
+        until the commit, so a roll-back puts everything back.
+
+        Parameters
+        ----------
+        topology : mesh_data.Topology, the evaluated corners the bake saw
+        loops : (t, 3) int, the corner of each triangle corner
+        layer_uv : (t, 3 layers, 3 corners, 2)
+        """
+        per_corner = np.zeros((3, len(topology.corner_vert), 2), dtype=np.float32)
+        for axis in range(3):
+            per_corner[axis][loops.ravel()] = layer_uv[:, axis].reshape(-1, 2)
+        mesh = stack.helper_mesh(stack.helper_name(ob), topology, per_corner)
+        helper = bpy.data.objects.new(stack.helper_name(ob), mesh)
+        self.undo.append(lambda helper=helper: stack.remove_helper(helper))
+        old = stack.helper_of(ob)
+        if old is not None and old != helper:
+            self.on_commit.append(lambda old=old: stack.remove_helper(old))
+        modifier = stack.stack_modifier(ob)
+        if modifier is None:
+            modifier = ob.modifiers.new(STACK_MODIFIER, "NODES")
+            modifier.node_group = stack.stack_group()
+            self.undo.append(lambda ob=ob, name=modifier.name: ob.modifiers.remove(ob.modifiers[name]))
+        else:
+            socket = stack.baked_socket(modifier)
+            self.undo.append(lambda modifier=modifier, socket=socket, old=modifier[socket]: modifier.__setitem__(
+                socket, old))
+            position = list(ob.modifiers).index(modifier)
+            if position != len(ob.modifiers) - 1:             # the user added modifiers after it: it goes last
+                ob.modifiers.move(position, len(ob.modifiers) - 1)
+                self.undo.append(lambda ob=ob, name=modifier.name, position=position: ob.modifiers.move(
+                    len(ob.modifiers) - 1, position))
+        modifier[stack.baked_socket(modifier)] = helper
+        modifier.show_viewport = modifier.show_render = True
+        self.set_property(ob, HELPER_KEY, helper.name)
+        ob.update_tag()
+
+    def drop_stack(self, ob):
+        """Take an earlier bake's modifier and helper off ``ob`` (its stack no longer needs them: the UV maps
+        go on its mesh), undone by putting them back."""
+        modifier, helper = stack.stack_modifier(ob), stack.helper_of(ob)
+        if modifier is not None:
+            socket, position = stack.baked_socket(modifier), list(ob.modifiers).index(modifier)
+            group, baked = modifier.node_group, modifier[socket]
+
+            def restore(ob=ob, group=group, baked=baked, socket=socket, position=position):
+                again = ob.modifiers.new(STACK_MODIFIER, "NODES")
+                again.node_group = group
+                again[socket] = baked
+                ob.modifiers.move(len(ob.modifiers) - 1, position)
+            ob.modifiers.remove(modifier)
+            self.undo.append(restore)
+        if helper is not None:
+            self.on_commit.append(lambda helper=helper: stack.remove_helper(helper))
+        if ob.get(HELPER_KEY) is not None:
+            old = ob[HELPER_KEY]
+            del ob[HELPER_KEY]
+            self.undo.append(lambda ob=ob, old=old: ob.__setitem__(HELPER_KEY, old))
+
     def materials(self, ob, image, multiply, baked_objects):
         """Hook every material of ``ob`` (giving it one if it has none)."""
         warnings = []
@@ -157,14 +221,15 @@ class Transaction:
 
 
 def store_float_image(name, values, marks=(OURS_KEY,), keep_undo=True):
-    """The image ``name`` holding ``values`` (height, width) as grey: float, Non-Color, packed into the .blend.
+    """The image ``name`` holding ``values`` (height, width) as grey, or (height, width, 4) as RGBA: float,
+    Non-Color, packed into the .blend.
 
     Made new (with the custom properties ``marks`` set), or, if Seamless AO
     made it, overwritten in place.  Returns ``(image, undo)``; ``undo()`` puts
     back what was there before (``None`` with ``keep_undo`` off: the old
     pixels are then not even read).
     """
-    height, width = values.shape
+    height, width = values.shape[:2]
     image = bpy.data.images.get(name)
     if image is not None and image.get(OURS_KEY):
         undo = _pixels_undo(image) if keep_undo else None
@@ -197,8 +262,11 @@ def _pixels_undo(image):
 
 
 def grey_pixels(values):
-    """Flat RGBA float32 pixels of ``values`` (height, width): grey, opaque."""
-    pixels = np.repeat(np.asarray(values, dtype=np.float32).reshape(-1, 1), 4, axis=1)
+    """Flat RGBA float32 pixels of ``values``: (height, width) as grey and opaque, or (height, width, 4) as is."""
+    values = np.asarray(values, dtype=np.float32)
+    if values.ndim == 3:
+        return values.ravel()
+    pixels = np.repeat(values.reshape(-1, 1), 4, axis=1)
     pixels[:, 3] = 1.0
     return pixels.ravel()
 

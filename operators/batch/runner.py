@@ -27,6 +27,8 @@ from ...core.settings import DOMAIN_ITEMS, BakeSettings, ExportSettings
 
 PACKAGE_ROOT = pathlib.Path(__file__).resolve().parents[2]
 REPORT_VERSION = 1
+#: Which UV map a glTF's AO rides on (see :func:`batch`).
+UV_POLICIES = ("auto", "own", "new")
 EXPORT_DEFAULTS = ExportSettings()
 #: Where a batch's defaults differ from a bake's: the pieces of an asset occlude each other.
 BATCH_DEFAULTS = {"use_scene_occluders": True}
@@ -52,7 +54,7 @@ def worker_environment():
     return dict(os.environ, SEAMLESS_AO_PATHS=os.pathsep.join(paths))
 
 
-def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, new_uv=False,
+def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, uv_policy="auto",
           color_attribute=None, texture_size=EXPORT_DEFAULTS.size, texture_padding=EXPORT_DEFAULTS.padding,
           report=None, progress=None, timeout=None, **settings):
     """Bake every asset found in ``paths``; returns one :class:`~..core.batch.AssetRecord` per asset.
@@ -71,10 +73,15 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         Bake even assets whose output is up to date.
     per_object : bool
         One AO image per object instead of one per asset.
-    new_uv : bool
-        glTF out: put the AO on a new UV map ``AO_UV`` (the second UV set,
-        ``texCoord`` 1) even when the asset has its own UVs (use it when they
-        overlap or tile).
+    uv_policy : {"auto", "own", "new"}
+        glTF out: the UV map the AO rides on.  ``auto``: the object's own
+        (render-active) UV map where it can hold the AO
+        (:func:`~...core.uv_fitness.uv_fitness`: no shared UV space, no
+        tiling, no collapsed faces), else a new map ``AO_UV`` made for it (the
+        second UV set, ``texCoord`` 1), and the record's warnings say why;
+        ``own``: always the object's own, with a warning where it cannot hold
+        the AO; ``new``: always a new one.  An object without UVs always gets
+        a new one.
     color_attribute : {"CORNER", "POINT"}, optional
         glTF out: also write the AO as the vertex colour ``COLOR_0``.
     texture_size, texture_padding : int
@@ -102,6 +109,8 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         raise SeamlessAOError("save_image is not available in a batch: the AO goes into each output file (packed "
                               "into the .blend, embedded in the .glb), and files beside the inputs would leave "
                               "the output folder")
+    if uv_policy not in UV_POLICIES:
+        raise SeamlessAOError("uv_policy must be one of {} (got {!r})".format(", ".join(UV_POLICIES), uv_policy))
     if timeout is not None and not timeout > 0:
         raise SeamlessAOError("timeout must be a number of seconds above 0 (got {!r})".format(timeout))
     export = ExportSettings.from_kwargs(size=texture_size, padding=texture_padding)
@@ -124,7 +133,7 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         os.makedirs(output_dir, exist_ok=True)
     outputs = plan_outputs(assets, output_dir)
     job_options = dict(settings=dataclasses.asdict(bake_settings), per_object=bool(per_object),
-                       new_uv=bool(new_uv), color_attribute=color_attribute, texture_size=export.size,
+                       uv_policy=uv_policy, color_attribute=color_attribute, texture_size=export.size,
                        texture_padding=export.padding)
     digest = settings_digest(job_options)
 

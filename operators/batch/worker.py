@@ -9,7 +9,8 @@ runs: .blend files are opened with auto-run scripts off.
   file is saved as the output.
 - anything else (``.glb``, ``.gltf``, ``.obj``, ``.fbx``, ``.ply``, ``.stl``)
   in: imported, baked, the AO resampled onto each object's own UV map (a
-  new one, ``AO_UV``, when it has none or ``new_uv`` is asked) and wired into
+  new one, ``AO_UV``, when it has none or its own cannot hold the AO: see
+  ``batch``'s ``uv_policy``) and wired into
   its materials as the glTF occlusion texture; written as ``.glb``.
 """
 
@@ -29,7 +30,8 @@ from ...core.errors import SeamlessAOError
 from ...core.keys import AO_LAYERS, AO_UV, COLOR_ATTRIBUTE
 from ...core.settings import BakeSettings
 from ...shaders import material as material_nodes
-from ..adapters.exports import own_uv_map, resample, to_color_attribute
+from ..adapters.exports import own_uv_map, resample, to_color_attribute, uv_map_fitness
+from ..adapters.mesh_data import evaluated_mesh, render_evaluation
 from ..adapters.session import bake
 
 
@@ -68,7 +70,7 @@ def bake_targets(source_name):
     meshes = [ob for ob in view_layer.objects if ob.type == "MESH" and ob.visible_get(view_layer=view_layer)]
     if not meshes:
         raise SeamlessAOError("{} has no visible mesh object to bake".format(source_name))
-    with_faces = [ob for ob in meshes if len(ob.data.polygons)]
+    with_faces = [ob for ob in meshes if len(ob.data.polygons) or any(m.show_render for m in ob.modifiers)]
     return with_faces or meshes
 
 
@@ -84,11 +86,15 @@ def make_single_user(objects):
 
 
 def triangle_count(objects):
+    """Triangles of the objects as they render (modifier stacks evaluated)."""
     total = 0
-    for ob in objects:
-        corners = np.empty(len(ob.data.polygons), dtype=np.int64)
-        ob.data.polygons.foreach_get("loop_total", corners)
-        total += int(np.maximum(corners - 2, 0).sum())
+    with render_evaluation(objects):
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        for ob in objects:
+            with evaluated_mesh(ob, depsgraph) as mesh:
+                corners = np.empty(len(mesh.polygons), dtype=np.int64)
+                mesh.polygons.foreach_get("loop_total", corners)
+                total += int(np.maximum(corners - 2, 0).sum())
     return total
 
 
@@ -143,14 +149,34 @@ def own_materials(objects):
         taken.update(slot.material for slot in ob.material_slots)
 
 
+def ao_uv_map(ob, policy, padding, size):
+    """The UV map ``ob``'s AO rides on under ``policy`` (``auto``, ``own``, ``new``: see ``batch``), and the
+    warnings to record."""
+    own = [uv for uv in ob.data.uv_layers if uv.name not in AO_LAYERS and uv.name != AO_UV]
+    if not own or policy == "new":
+        return unwrap(ob, padding, size), []
+    target = own_uv_map(ob)
+    fitness = uv_map_fitness(ob, target)
+    if fitness.can_hold_ao:
+        return target, []
+    reason = "; ".join(fitness.problems())
+    if policy == "own":
+        return target, ["'{}': its UV map '{}' cannot hold the AO ({}), and it carries it as asked (--uv-policy "
+                        "own): the AO of one place shows in another".format(ob.name, target, reason)]
+    return unwrap(ob, padding, size), ["'{}': its UV map '{}' cannot hold the AO ({}): the AO rides on a new UV "
+                                       "map {} (glTF TEXCOORD_1)".format(ob.name, target, reason, AO_UV)]
+
+
 def export_glb(objects, output, job):
-    """Resample the AO onto each object's UV map, wire it as occlusion and write ``output`` (.glb)."""
+    """Resample the AO onto each object's UV map, wire it as occlusion and write ``output`` (.glb); returns
+    the warnings about the UV maps."""
     size, padding = job["texture_size"], job["texture_padding"]
     own_materials(objects)
+    warnings = []
     for ob in objects:
-        own = [uv for uv in ob.data.uv_layers if uv.name not in AO_LAYERS and uv.name != AO_UV]
-        target = own_uv_map(ob) if own and not job["new_uv"] else unwrap(ob, padding, size)
-        resample([ob], uv_map=target, size=size, padding=padding, gltf_occlusion=True)
+        target, said = ao_uv_map(ob, job["uv_policy"], padding, size)
+        warnings += said
+        resample([ob], uv_map=target, size=size, padding=padding, gltf_occlusion=True, unfit_uv_map=True)
     if job["color_attribute"]:
         to_color_attribute(objects, job["color_attribute"])
     for ob in objects:
@@ -168,22 +194,25 @@ def export_glb(objects, output, job):
         options.update({"export_vertex_color": "ACTIVE"} if "export_vertex_color" in known else
                        {"export_colors": True})
     bpy.ops.export_scene.gltf(**options)
+    return warnings
 
 
 def write_output(objects, job, from_blend):
     """The .blend or .glb, written under a temporary name and then renamed: a crash never leaves a
-    half-written output that a re-run would take as done."""
+    half-written output that a re-run would take as done.  Returns the export's warnings."""
     output = job["output"]
     partial = partial_output(output, os.getpid())
+    warnings = []
     try:
         if from_blend:
             bpy.ops.wm.save_as_mainfile(filepath=partial, copy=True)
         else:
-            export_glb(objects, partial, job)
+            warnings = export_glb(objects, partial, job)
         os.replace(partial, output)
     finally:
         if os.path.exists(partial):
             os.remove(partial)
+    return warnings
 
 
 def run_job(job):
@@ -199,7 +228,9 @@ def run_job(job):
         if not from_blend:
             settings = settings.replace(hook_materials=False, save_image="NONE")   # glTF keeps its Base Color
         objects = bake_targets(name)
-        shared = make_single_user(objects)
+        # a .blend keeps its linked duplicates (each gets its AO through a modifier); a .glb exports one
+        # material set per mesh, so there each object needs a mesh of its own for its own AO image
+        shared = 0 if from_blend else make_single_user(objects)
         record.objects = [ob.name for ob in objects]
         record.triangles = triangle_count(objects)
         numbers = bake_all(objects, settings, job["per_object"])
@@ -208,7 +239,7 @@ def run_job(job):
         record.warnings = numbers["warnings"] + (
             ["{} object(s) shared a mesh with another and got a copy of their own".format(shared)] if shared else [])
         start = time.perf_counter()
-        write_output(objects, job, from_blend)
+        record.warnings += write_output(objects, job, from_blend)
         record.seconds["export"] = time.perf_counter() - start
         record.status = "baked"
     except SeamlessAOError as error:

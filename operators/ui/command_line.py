@@ -20,7 +20,7 @@ from ..adapters.clearing import clear
 from ..adapters.exports import resample, to_color_attribute
 from ..adapters.scene_settings import scene_export_settings
 from ..adapters.session import bake
-from ..batch.runner import batch
+from ..batch.runner import UV_POLICIES, batch
 
 PROG = "blender --background FILE.blend --command seamless_ao"
 DEFAULT_EXPORT = ExportSettings()
@@ -64,8 +64,12 @@ def add_batch_parser(actions):
     batch_parser.add_argument("--jobs", type=int, metavar="N", help="worker processes at once (default: cores)")
     batch_parser.add_argument("--force", action="store_true", help="bake even assets whose output is up to date")
     batch_parser.add_argument("--per-object", action="store_true", help="one AO image per object, not per asset")
-    batch_parser.add_argument("--new-uv", action="store_true",
-                              help="glTF out: put the AO on a new UV map AO_UV even where the asset has UVs")
+    batch_parser.add_argument("--uv-policy", choices=UV_POLICIES, default="auto",
+                              help="glTF out: the UV map the AO rides on: the asset's own where it can hold the AO, "
+                              "else a new one (auto, the default); always its own, with a warning where it cannot "
+                              "(own); always a new one (new)")
+    batch_parser.add_argument("--new-uv", action="store_const", dest="uv_policy", const="new",
+                              help="the same as --uv-policy new")
     batch_parser.add_argument("--color-attribute", choices=[item[0] for item in DOMAIN_ITEMS],
                               help="glTF out: also write the AO as vertex colour COLOR_0 on this domain")
     batch_parser.add_argument("--texture-size", type=int, default=DEFAULT_EXPORT.size, metavar="N",
@@ -141,7 +145,8 @@ def run(argv):
                 **given_options(args, export_fields(RESAMPLE_FIELDS)))
             if not args.no_texture:
                 names = resample(objects, settings.uv_map or None, settings.size, settings.padding,
-                                 settings.gltf_occlusion, settings.material_strength)
+                                 settings.gltf_occlusion, settings.material_strength, settings.packing,
+                                 settings.unfit_uv_map)
                 print("Resampled AO into " + ", ".join(names))
             if args.color_attribute:
                 to_color_attribute(objects, args.color_attribute, settings.material_strength)
@@ -174,7 +179,7 @@ def run_batch(args):
     itself is wrong (a bad setting, paths that name no asset)."""
     try:
         records = batch(args.paths, output_dir=args.output_dir, jobs=args.jobs, pattern=args.glob,
-                        force=args.force, per_object=args.per_object, new_uv=args.new_uv,
+                        force=args.force, per_object=args.per_object, uv_policy=args.uv_policy,
                         color_attribute=args.color_attribute,
                         texture_size=args.texture_size, texture_padding=args.texture_padding, report=args.report,
                         timeout=args.timeout, **bake_options(args))

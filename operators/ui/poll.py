@@ -1,6 +1,6 @@
 """What the operators' ``poll`` asks: which objects a click would use, and why nothing can be done now."""
 
-from ...core.keys import AO_LAYERS, IMAGE_KEY
+from ...core.keys import AO_LAYERS, HELPER_KEY, IMAGE_KEY, STALE_ATTRIBUTE
 
 
 def target_objects(context):
@@ -39,6 +39,19 @@ def has_bake(ob):
 def baked_targets(context):
     """The target objects that have a bake."""
     return [ob for ob in target_objects(context) if has_bake(ob)]
+
+
+def stale_bakes(context):
+    """The target objects whose AO the viewport does not show because their modifier stack, as the viewport
+    evaluates it, gives another surface than the one baked (the stack's modifier marks it stale)."""
+    depsgraph = context.evaluated_depsgraph_get()
+    stale = []
+    for ob in target_objects(context):
+        if ob.get(HELPER_KEY):
+            mesh = ob.evaluated_get(depsgraph).data
+            if mesh is not None and STALE_ATTRIBUTE in mesh.attributes:
+                stale.append(ob)
+    return stale
 
 
 def poll_explained(operator_class, problem):

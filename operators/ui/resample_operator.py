@@ -21,5 +21,5 @@ class OBJECT_OT_seamless_ao_resample(ExportOperator, bpy.types.Operator):
 
     def export(self, context):
         names = resample(baked_targets(context), self.uv_map or None, self.size, self.padding,
-                         self.gltf_occlusion, self.material_strength)
+                         self.gltf_occlusion, self.material_strength, self.packing, self.unfit_uv_map)
         return "Resampled AO into " + ", ".join(names)

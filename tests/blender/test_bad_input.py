@@ -141,15 +141,16 @@ def test_linked_library_data(monkey, tmp_path):
     expect_refusal([linked], "is linked from a library")
 
 
-def test_shared_mesh_objects(monkey):
-    twin = bpy.data.objects.new("Twin", monkey.data)
-    bpy.context.scene.collection.objects.link(twin)
-    expect_refusal([monkey, twin], "share one mesh")
-
-
-def test_topology_changing_modifier_is_refused(monkey):
-    monkey.modifiers.new("Subdivision", "SUBSURF")
-    expect_refusal([monkey], "Subdivision change the mesh's topology")
+def test_a_stack_that_leaves_no_faces_is_refused(monkey):
+    """Modifiers that leave nothing to bake (here a Geometry Nodes group whose output is empty) are refused as
+    the object renders, not as its base mesh is (test_modifiers.py: every stack that leaves faces bakes)."""
+    group = bpy.data.node_groups.new("Nothing", "GeometryNodeTree")
+    group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    group.nodes.new("NodeGroupInput")
+    group.nodes.new("NodeGroupOutput")
+    monkey.modifiers.new("Nothing", "NODES").node_group = group
+    expect_refusal([monkey], "'Suzanne' has no faces to bake as it renders")
 
 
 def test_deforming_modifier_bakes_the_evaluated_shape(fresh_scene, addon):

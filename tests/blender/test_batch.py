@@ -122,6 +122,14 @@ def test_glb_carries_the_ao_as_occlusion_on_the_right_uv_map(first_run, kind):
     assert darkest < 0.8                       # the pieces occlude each other: the AO is not blank
 
 
+def test_every_glb_the_batch_wrote_passes_the_khronos_validator(first_run):
+    from gltf_checks import validate
+    written = sorted(first_run["out"].glob("*.glb"))
+    assert len(written) == 3
+    for path, report in validate(written).items():
+        assert report["errors"] == 0 and report["warnings"] == 0, (path, report["messages"])
+
+
 def test_blend_in_blend_out_without_running_the_assets_code(first_run):
     output = first_run["out"] / BAKED["blend"]
     assert not first_run["marker"].exists(), "the batch ran a script stored in the .blend"
@@ -167,7 +175,7 @@ def test_odd_names_stay_inside_the_output_folder_with_new_uv_and_one_image_per_o
     shutil.copy(first_run["assets"]["with_uv"], odd)
     out = tmp_path / "out"
     given = str(tmp_path / "in" / "deep" / ".." / "deep" / odd.name)          # a path through '..'
-    records = seamless_ao.batch([given], output_dir=str(out), jobs=1, new_uv=True, per_object=True, rays=16,
+    records = seamless_ao.batch([given], output_dir=str(out), jobs=1, uv_policy="new", per_object=True, rays=16,
                                 image_size=256, texture_size=256, progress=lambda line: None)
     assert [r.status for r in records] == ["baked"], records
     written = [p for p in out.iterdir() if not p.name.startswith(".seamless_ao")]

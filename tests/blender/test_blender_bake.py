@@ -264,7 +264,7 @@ def test_scene_occluders_and_ground_plane_match_the_plain_reference(addon, fresh
 def test_scene_occluders_take_only_objects_within_the_ray_distance(addon, fresh_scene):
     """Issue 16, item 6: objects whose bounds stay farther than the maximum ray distance from the baked
     object are not read, and leave the AO exactly as without them."""
-    from seamless_ao.operators.adapters.mesh_data import mesh_boxes, near_objects
+    from seamless_ao.operators.adapters.mesh_data import scene_occluders, world_boxes
     ball = suzanne(0, name="Ball")
     near = suzanne(0, name="Near")
     near.location = (3.0, 0.0, 0.0)                   # Suzanne is about 2.7 wide: bounds 0.27 apart
@@ -274,9 +274,11 @@ def test_scene_occluders_take_only_objects_within_the_ray_distance(addon, fresh_
     settings = dict(use_scene_occluders=True, auto_distance=False, max_distance=1.0, **FAST)
     depsgraph = bpy.context.evaluated_depsgraph_get()
     low, high = np.array([-1.37, -0.86, -0.99]), np.array([1.37, 0.86, 0.99])
-    boxes = mesh_boxes(bpy.context.scene, depsgraph)
-    assert [o.name for o in near_objects(boxes, ball, low, high, 1.0)] == ["Near"]
-    assert [o.name for o in near_objects(boxes, ball, low, high, 0.1)] == []
+    boxes = world_boxes(depsgraph)
+    assert sorted(ob.name for ob, _, _ in boxes[0]) == ["Ball", "Far", "Near"]
+    near_geometry = scene_occluders(boxes, ball, low, high, 1.0)
+    assert len(near_geometry) == 1 and len(near_geometry[0][1]) == sum(len(f.vertices) - 2 for f in near.data.polygons)
+    assert scene_occluders(boxes, ball, low, high, 0.1) == []
     with_far = image_array(bpy.data.images[seamless_ao.bake([ball], **settings).image]).copy()
     bpy.data.objects.remove(far)
     without_far = image_array(bpy.data.images[seamless_ao.bake([ball], **settings).image])

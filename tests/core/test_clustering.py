@@ -222,3 +222,18 @@ def test_rounds_after_a_split_pair_up_only_the_cuts(make, margin, monkeypatch):
     assert np.array_equal(remembered.chart_of_face, every_side.chart_of_face)
     assert np.array_equal(remembered.chart_axis, every_side.chart_axis)
     assert remembered.count > clusters.count
+
+
+def test_a_polygon_folded_over_itself_lays_out_instead_of_being_split_forever():
+    """One face whose triangles overlap in its own projection (a fan around its centre turning one and a half
+    times, as a Boolean's n-gon can): no split can part triangles of one face, so the layout must end (it
+    used to loop forever), with that face in one chart."""
+    from seamless_ao.core.layout import build_layout
+    angle = np.linspace(0.0, 3.0 * np.pi, 25)
+    rim = np.stack([np.cos(angle), np.sin(angle), 0.01 * angle], axis=1)
+    positions = np.vstack([[0.0, 0.0, 0.0], rim])
+    triangles = np.stack([np.zeros(24, dtype=np.int64), np.arange(1, 25), np.arange(2, 26)], axis=1)
+    normals = np.tile([0.0, 0.0, 1.0], (24, 3, 1))
+    mesh = TriangleMesh(positions, triangles, np.zeros(24, dtype=np.int64), normals, face_count=1)
+    layout = build_layout(mesh, image_size=256)
+    assert layout.charts.count >= 1 and len(layout.texels) > 0

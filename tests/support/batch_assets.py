@@ -11,7 +11,9 @@
 - ``broken.glb``: not a glTF at all;
 - ``edges.obj``: only loose edges (nothing to bake).
 
-:func:`other_formats` writes the same small scene as .gltf, .fbx, .ply and .stl.
+:func:`uv_cases` writes the glTF assets whose UV maps test the batch's UV policy: stacked islands, tiling
+UVs, several materials on one object; :func:`other_formats` writes a small scene as .gltf, .fbx, .ply and
+.stl.
 """
 
 import addon_utils
@@ -81,6 +83,70 @@ def room_blend(path, marker):
 def edges_obj(path):
     lines = ["v 0 0 0", "v 1 0 0", "v 1 1 0", "v 0 1 1", "l 1 2", "l 2 3", "l 3 4"]
     path.write_text("\n".join(lines) + "\n")
+
+
+def _box_on_a_floor():
+    """A box standing on a floor slab, both unwrapped by their primitives."""
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 0.5))
+    box = bpy.context.active_object
+    return box, _plate()
+
+
+def stacked_uv_glb(path):
+    """The box's six faces all on the same UV square (as a texture artist stacks identical sides), and
+    Suzanne's mirrored halves on each other: their own UV maps cannot hold AO."""
+    _scene()
+    box, _ = _box_on_a_floor()
+    square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+    layer = box.data.uv_layers.active
+    for polygon in box.data.polygons:
+        for corner, loop in enumerate(polygon.loop_indices):
+            layer.data[loop].uv = square[corner % 4]
+    bpy.ops.mesh.primitive_monkey_add(location=(1.6, 0.0, 0.7))
+    monkey = bpy.context.active_object
+    layer = monkey.data.uv_layers.active
+    for loop in monkey.data.loops:
+        x, _, z = monkey.data.vertices[loop.vertex_index].co
+        layer.data[loop.index].uv = (0.5 + 0.35 * abs(x), 0.5 + 0.35 * z)     # each half folded onto the other
+    _export_glb(path)
+
+
+def tiling_uv_glb(path):
+    """A floor and a wall with UVs tiling four times (a brick material repeated), and a box standing by them."""
+    _scene()
+    box, floor = _box_on_a_floor()
+    bpy.ops.mesh.primitive_plane_add(size=3.0, location=(0.0, 1.5, 1.5), rotation=(1.5708, 0.0, 0.0))
+    wall = bpy.context.active_object
+    for ob in (floor, wall):
+        layer = ob.data.uv_layers.active
+        for loop in ob.data.loops:
+            layer.data[loop.index].uv = layer.data[loop.index].uv * 4.0
+    _export_glb(path)
+
+
+def materials_glb(path):
+    """One box whose faces carry three materials (the AO image is one, shared by all three), on a floor."""
+    _scene()
+    box, _ = _box_on_a_floor()
+    for name in ("Wood", "Metal", "Paint"):
+        material = bpy.data.materials.new(name)
+        if bpy.app.version < (5, 0, 0):
+            material.use_nodes = True
+        box.data.materials.append(material)
+    box.data.polygons.foreach_set("material_index", [k % 3 for k in range(len(box.data.polygons))])
+    _export_glb(path)
+
+
+def uv_cases(folder):
+    """``{kind: path}`` of the assets of :func:`stacked_uv_glb`, :func:`tiling_uv_glb` and :func:`materials_glb`."""
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = {"stacked": folder / "stacked_uv.glb", "tiling": folder / "tiling_uv.glb",
+             "materials": folder / "materials.glb"}
+    stacked_uv_glb(paths["stacked"])
+    tiling_uv_glb(paths["tiling"])
+    materials_glb(paths["materials"])
+    _scene()
+    return paths
 
 
 def other_formats(folder):
