@@ -62,8 +62,9 @@ def _build(group):
     for name in ("Point Count", "Face Count", "Face Corner Count"):
         equal = nodes.new("FunctionNodeCompare")
         equal.data_type, equal.operation = "INT", "EQUAL"
-        links.new(sizes[0].outputs[name], equal.inputs[2])
-        links.new(sizes[1].outputs[name], equal.inputs[3])
+        first, second = (next(s for s in equal.inputs if s.name == side and s.type == "INT") for side in "AB")
+        links.new(sizes[0].outputs[name], first)        # by name and type: 5.2 shows only the chosen type's
+        links.new(sizes[1].outputs[name], second)
         if fits is None:
             fits = equal.outputs[0]
         else:
@@ -143,6 +144,25 @@ def baked_socket(modifier):
     """The identifier of the modifier's ``Baked`` input (the helper object goes there)."""
     return next(item.identifier for item in modifier.node_group.interface.items_tree
                 if getattr(item, "in_out", None) == "INPUT" and item.name == "Baked")
+
+
+def baked_input(modifier):
+    """The helper object the modifier reads (None if none)."""
+    socket = baked_socket(modifier)
+    interface = getattr(getattr(modifier, "properties", None), "inputs", None)
+    if interface is not None:                              # Blender 5.2: inputs are RNA, not ID properties
+        return getattr(interface, socket).value
+    return modifier.get(socket)
+
+
+def set_baked_input(modifier, helper):
+    """Point the modifier at ``helper``."""
+    socket = baked_socket(modifier)
+    interface = getattr(getattr(modifier, "properties", None), "inputs", None)
+    if interface is not None:
+        getattr(interface, socket).value = helper
+    else:
+        modifier[socket] = helper
 
 
 def remove_helper(helper):

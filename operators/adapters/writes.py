@@ -153,17 +153,17 @@ class Transaction:
         if modifier is None:
             modifier = ob.modifiers.new(STACK_MODIFIER, "NODES")
             modifier.node_group = stack.stack_group()
+            modifier.use_pin_to_last = True                   # stays last when the artist adds modifiers
             self.undo.append(lambda ob=ob, name=modifier.name: ob.modifiers.remove(ob.modifiers[name]))
         else:
-            socket = stack.baked_socket(modifier)
-            self.undo.append(lambda modifier=modifier, socket=socket, old=modifier[socket]: modifier.__setitem__(
-                socket, old))
+            self.undo.append(lambda modifier=modifier, old=stack.baked_input(modifier): stack.set_baked_input(
+                modifier, old))
             position = list(ob.modifiers).index(modifier)
             if position != len(ob.modifiers) - 1:             # the user added modifiers after it: it goes last
                 ob.modifiers.move(position, len(ob.modifiers) - 1)
                 self.undo.append(lambda ob=ob, name=modifier.name, position=position: ob.modifiers.move(
                     len(ob.modifiers) - 1, position))
-        modifier[stack.baked_socket(modifier)] = helper
+        stack.set_baked_input(modifier, helper)
         modifier.show_viewport = modifier.show_render = True
         self.set_property(ob, HELPER_KEY, helper.name)
         ob.update_tag()
@@ -173,14 +173,15 @@ class Transaction:
         go on its mesh), undone by putting them back."""
         modifier, helper = stack.stack_modifier(ob), stack.helper_of(ob)
         if modifier is not None:
-            socket, position = stack.baked_socket(modifier), list(ob.modifiers).index(modifier)
-            group, baked = modifier.node_group, modifier[socket]
+            position = list(ob.modifiers).index(modifier)
+            group, baked, pinned = modifier.node_group, stack.baked_input(modifier), modifier.use_pin_to_last
 
-            def restore(ob=ob, group=group, baked=baked, socket=socket, position=position):
+            def restore(ob=ob, group=group, baked=baked, position=position, pinned=pinned):
                 again = ob.modifiers.new(STACK_MODIFIER, "NODES")
                 again.node_group = group
-                again[socket] = baked
+                stack.set_baked_input(again, baked)
                 ob.modifiers.move(len(ob.modifiers) - 1, position)
+                again.use_pin_to_last = pinned
             ob.modifiers.remove(modifier)
             self.undo.append(restore)
         if helper is not None:
