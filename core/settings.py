@@ -172,10 +172,17 @@ class BakeSettings(_Settings):
 
 PACKING_ITEMS = (
     ("GLTF", "glTF Occlusion", "Grey: the AO in R, G and B (glTF reads occlusion from R)"),
-    ("ORM", "ORM", "R occlusion, G roughness, B metallic (glTF's, Unreal's and Godot's packed texture), from the "
-     "materials' Roughness and Metallic values"),
+    ("GREY", "Greyscale", "One channel: the AO alone, in a greyscale PNG (glTF reads its grey as R)"),
+    ("ORM", "ORM", "R occlusion, G roughness, B metallic (glTF's, Unreal's and Godot's packed texture): the "
+     "materials' metallic-roughness texture where one feeds Roughness and Metallic on the same UV map, else their "
+     "Roughness and Metallic values"),
     ("UNITY_MASK", "Unity Mask Map", "R metallic, G occlusion, B detail mask (0), A smoothness (Unity URP and "
      "HDRP); not for glTF occlusion, which reads R"),
+)
+
+BIT_DEPTH_ITEMS = (
+    ("16", "16-bit", "16 bits per channel (no visible banding in soft AO gradients)"),
+    ("8", "8-bit", "8 bits per channel (half the size; what most engines store AO in)"),
 )
 
 DOMAIN_ITEMS = (
@@ -201,6 +208,8 @@ class ExportSettings(_Settings):
         "it (off: the AO as baked)")
     packing: str = _setting("GLTF", "Packing", "Which channels of the resampled image carry the AO",
                             items=PACKING_ITEMS)
+    bit_depth: str = _setting("16", "Bit Depth", "Bits per channel of the resampled image, a PNG packed into the "
+                              ".blend and embedded as is by the glTF exporter", items=BIT_DEPTH_ITEMS)
     unfit_uv_map: bool = _setting(
         False, "Even If Unfit",
         "Resample even onto a UV map that cannot hold the AO (UV space shared by several faces, tiling, or "
@@ -208,7 +217,8 @@ class ExportSettings(_Settings):
 
 
 #: What each export writes, and which of :class:`ExportSettings` it reads.
-RESAMPLE_FIELDS = ("uv_map", "size", "padding", "gltf_occlusion", "material_strength", "packing", "unfit_uv_map")
+RESAMPLE_FIELDS = ("uv_map", "size", "padding", "gltf_occlusion", "material_strength", "packing", "bit_depth",
+                   "unfit_uv_map")
 COLOR_FIELDS = ("domain", "material_strength")
 
 

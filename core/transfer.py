@@ -88,13 +88,40 @@ def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=
     return filled.astype(np.float32), coverage.reshape(height, width), channels
 
 
+def texel_uv(width, height):
+    """(height, width, 2) float64: the UV of each texel's centre, rows bottom up (Blender's pixel order)."""
+    u = (np.arange(width) + 0.5) / width
+    v = (np.arange(height) + 0.5) / height
+    return np.stack(np.broadcast_arrays(u[None, :], v[:, None]), axis=-1)
+
+
+def sample_repeat(values, uv):
+    """Bilinear lookup of ``values`` (h, w), rows bottom up, at ``uv`` (..., 2), texel centres at half-integer
+    texels, repeating outside [0, 1] as an Image Texture node does by default: (...) float64."""
+    height, width = values.shape
+    x = np.asarray(uv[..., 0], dtype=np.float64) * width - 0.5
+    y = np.asarray(uv[..., 1], dtype=np.float64) * height - 0.5
+    x0, y0 = np.floor(x), np.floor(y)
+    fx, fy = x - x0, y - y0
+    x0, y0 = x0.astype(np.int64) % width, y0.astype(np.int64) % height
+    x1, y1 = (x0 + 1) % width, (y0 + 1) % height
+    return ((1 - fx) * (1 - fy) * values[y0, x0] + fx * (1 - fy) * values[y0, x1]
+            + (1 - fx) * fy * values[y1, x0] + fx * fy * values[y1, x1])
+
+
 #: How a resampled image carries the AO: ``(channel of the AO, channel of roughness, of metallic, of smoothness)``
 #: (-1: not carried); the rest of RGBA is the AO (grey) or 1.
 PACKINGS = {
     "GLTF": (0, -1, -1, -1),          # grey: glTF reads occlusion from R
+    "GREY": (0, -1, -1, -1),          # grey, one channel
     "ORM": (0, 1, 2, -1),             # occlusion, roughness, metallic: glTF's and Unreal's and Godot's ORM
     "UNITY_MASK": (1, -1, 0, 3),      # Unity URP/HDRP mask map: metallic, occlusion, detail mask, smoothness
 }
+
+
+#: The channels of the PNG file each packing writes: grey as RGB for glTF, one for greyscale, RGB for ORM, RGBA for
+#: a Unity mask map (smoothness in A).
+PNG_CHANNELS = {"GLTF": 3, "GREY": 1, "ORM": 3, "UNITY_MASK": 4}
 
 
 def pack_channels(ao, packing, roughness=None, metallic=None):
@@ -105,7 +132,7 @@ def pack_channels(ao, packing, roughness=None, metallic=None):
     metallic = np.zeros_like(ao) if metallic is None else np.asarray(metallic, dtype=np.float32)
     occlusion, rough, metal, smooth = PACKINGS[packing]
     rgba = np.ones(ao.shape + (4,), dtype=np.float32)
-    if packing == "GLTF":
+    if packing in ("GLTF", "GREY"):
         rgba[:, :, :3] = ao[:, :, None]
         return rgba
     if packing == "UNITY_MASK":

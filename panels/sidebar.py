@@ -112,7 +112,7 @@ class VIEW3D_PT_seamless_ao_export(SubPanel, bpy.types.Panel):
         else:
             column.prop(settings, "export_uv_map")
         for name in ("export_size", "export_padding", "export_gltf_occlusion", "export_material_strength",
-                     "export_packing", "export_unfit_uv_map"):
+                     "export_packing", "export_bit_depth", "export_unfit_uv_map"):
             column.prop(settings, name)
         column.operator("object.seamless_ao_resample", icon="UV")
         column.separator()

@@ -56,6 +56,48 @@ def blend_inputs(material):
     return float(node.inputs["Strength"].default_value), float(node.inputs["Interreflection"].default_value)
 
 
+#: The outputs of a Separate Color (RGB) or Separate RGB node, by channel.
+SEPARATED = {"Red": 0, "Green": 1, "Blue": 2, "R": 0, "G": 1, "B": 2}
+
+
+def principled_values(material):
+    """How the material's first Principled BSDF sets Roughness and Metallic: ``{name: (value, texture)}``, value
+    the input's own value (0.5 and 0 without a Principled BSDF), texture ``(image, channel, uv_map)`` when one
+    channel of an Image Texture feeds the input through a Separate Color (RGB) node, as a metallic-roughness
+    texture does (channel 0..2 for R, G, B; uv_map the UV Map node's map on the texture's Vector, "" for none:
+    the render-active map), else None (any other link: the value counts)."""
+    principled = None
+    if material is not None and material.node_tree is not None:
+        principled = next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"), None)
+    if principled is None:
+        return {"Roughness": (0.5, None), "Metallic": (0.0, None)}
+    return {name: (float(principled.inputs[name].default_value), _texture_channel(principled.inputs[name]))
+            for name in ("Roughness", "Metallic")}
+
+
+def _texture_channel(socket):
+    """``(image, channel, uv_map)`` of an input fed by Image Texture -> Separate Color (RGB), else None."""
+    if not socket.is_linked:
+        return None
+    link = socket.links[0]
+    split = link.from_node
+    if split.bl_idname not in ("ShaderNodeSeparateColor", "ShaderNodeSeparateRGB") or \
+            getattr(split, "mode", "RGB") != "RGB" or link.from_socket.name not in SEPARATED:
+        return None
+    colour = split.inputs[0]
+    texture = colour.links[0].from_node if colour.is_linked else None
+    if texture is None or texture.bl_idname != "ShaderNodeTexImage" or texture.image is None:
+        return None
+    vector = texture.inputs["Vector"]
+    if not vector.is_linked:
+        uv_map = ""
+    elif vector.links[0].from_node.bl_idname == "ShaderNodeUVMap":
+        uv_map = vector.links[0].from_node.uv_map
+    else:
+        return None                                           # a mapping we cannot follow: the value counts
+    return texture.image, SEPARATED[link.from_socket.name], uv_map
+
+
 def _socket(sockets, identifier):
     return next(s for s in sockets if s.identifier == identifier)
 

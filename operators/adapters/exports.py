@@ -19,12 +19,14 @@ from ...core.keys import (AO_LAYERS, BLEND, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_K
                           IMAGE_KEY, OURS_KEY)
 from ...core.mesh import TriangleMesh
 from ...core.settings import ExportSettings
-from ...core.transfer import corner_values, pack_channels, resample_to_uv, vertex_average
+from ...core.png import encode_png
+from ...core.transfer import (PNG_CHANNELS, corner_values, pack_channels, resample_to_uv, sample_repeat, texel_uv,
+                              vertex_average)
 from ...core.uv_fitness import uv_fitness
 from ...shaders import material as material_nodes
 from . import stack
 from .mesh_data import Topology, evaluated_mesh, read_triangles, render_evaluation
-from .writes import store_float_image
+from .writes import store_png_image
 
 DEFAULTS = ExportSettings()
 
@@ -84,20 +86,56 @@ def uv_map_fitness(ob, name):
     return uv_fitness(uv, mesh.triangle_area)
 
 
-def material_values(ob, baked):
-    """(t, 2) each triangle's material's Roughness and Metallic (a Principled BSDF's values; 0.5 and 0 without
-    one), for the packed images that carry them."""
-    per_slot = []
-    for slot in ob.material_slots or [None]:
-        material = getattr(slot, "material", None)
-        principled = None
-        if material is not None and material.node_tree is not None:
-            principled = next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"),
-                              None)
-        per_slot.append((principled.inputs["Roughness"].default_value, principled.inputs["Metallic"].default_value)
-                        if principled is not None else (0.5, 0.0))
-    slot = np.clip(baked.material_index[baked.mesh.triangle_face], 0, len(per_slot) - 1)
-    return np.array(per_slot, dtype=np.float64)[slot]
+def material_values(ob, baked, target):
+    """Each triangle's material's Roughness and Metallic, for the packed images that carry them.
+
+    Returns ``(per_triangle, textures)``: per_triangle (t, 2 + k) holds the two values (a Principled BSDF's
+    own; 0.5 and 0 without one), then one column per texture source, 1 where that triangle reads the value
+    from it; textures is the k sources, ``(index of the value: 0 roughness, 1 metallic, (h, w) float64
+    texture channel)``.  A texture counts when it is read through the UV map ``target`` itself (the
+    resampled image's texels then lie where its texels do); else the input's own value stands.
+    """
+    render_active = next((uv.name for uv in ob.data.uv_layers if uv.active_render), "")
+    slots = [getattr(slot, "material", None) for slot in ob.material_slots] or [None]
+    values = np.zeros((len(slots), 2))
+    sources, pixels, uses = [], {}, []
+    for s, material in enumerate(slots):
+        for v, (value, texture) in enumerate(material_nodes.principled_values(material).values()):
+            values[s, v] = value
+            if texture is None:
+                continue
+            image, channel, uv_map = texture
+            if (uv_map or render_active) != target or min(image.size) < 1:
+                continue
+            if image.name not in pixels:
+                width, height = image.size
+                flat = np.empty(width * height * 4, dtype=np.float32)
+                image.pixels.foreach_get(flat)
+                pixels[image.name] = flat.reshape(height, width, 4).astype(np.float64)
+            key = (v, image.name, channel)
+            if key not in sources:
+                sources.append(key)
+            uses.append((s, sources.index(key)))
+    per_slot = np.zeros((len(slots), 2 + len(sources)))
+    per_slot[:, :2] = values
+    for s, j in uses:
+        per_slot[s, 2 + j] = 1.0
+    slot = np.clip(baked.material_index[baked.mesh.triangle_face], 0, len(slots) - 1)
+    textures = [(v, pixels[name][:, :, channel]) for v, name, channel in sources]
+    return per_slot[slot], textures
+
+
+def packed_values(channels, textures):
+    """(roughness, metallic), each (h, w): the per-triangle values laid into the image (``channels`` (h, w,
+    2 + k), :func:`material_values`' columns as :func:`~...core.transfer.resample_to_uv` spreads them), with
+    each texture's own texels where its triangles lie (its column over one half)."""
+    height, width = channels.shape[:2]
+    laid = [channels[:, :, 0].copy(), channels[:, :, 1].copy()]
+    uv = texel_uv(width, height)
+    for j, (v, texture) in enumerate(textures):
+        where = channels[:, :, 2 + j] > 0.5
+        laid[v][where] = sample_repeat(texture, uv[where])
+    return laid
 
 
 def node_inputs(ob, baked, use):
@@ -137,7 +175,7 @@ def own_uv_map(ob, name=None):
 
 def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
              gltf_occlusion=DEFAULTS.gltf_occlusion, material_strength=DEFAULTS.material_strength,
-             packing=DEFAULTS.packing, unfit_uv_map=DEFAULTS.unfit_uv_map):
+             packing=DEFAULTS.packing, bit_depth=DEFAULTS.bit_depth, unfit_uv_map=DEFAULTS.unfit_uv_map):
     """Write each object's blended AO into a new image on one of its own UV maps.
 
     Parameters
@@ -153,8 +191,14 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
     material_strength : bool
         Apply each material's Strength and Interreflection (the ``Seamless AO``
         node's inputs), so the texture shows what the material shows.
-    packing : {"GLTF", "ORM", "UNITY_MASK"}
-        Which channels carry the AO (:data:`~...core.transfer.PACKINGS`).
+    packing : {"GLTF", "GREY", "ORM", "UNITY_MASK"}
+        Which channels carry the AO (:data:`~...core.transfer.PACKINGS`); ORM
+        and the Unity mask map carry each material's roughness and metallic
+        too, from its metallic-roughness texture where one is read through
+        the same UV map (:func:`material_values`).
+    bit_depth : {"16", "8"}
+        Bits per channel of the image: a PNG packed into the .blend, which
+        the glTF exporter embeds as it is.
     unfit_uv_map : bool
         Resample even onto a UV map that cannot hold the AO
         (:func:`~...core.uv_fitness.uv_fitness`); by default that is refused
@@ -166,7 +210,7 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
     """
     settings = ExportSettings.from_kwargs(uv_map=uv_map or "", size=size, padding=padding,
                                           gltf_occlusion=gltf_occlusion, material_strength=material_strength,
-                                          packing=packing, unfit_uv_map=unfit_uv_map)
+                                          packing=packing, bit_depth=bit_depth, unfit_uv_map=unfit_uv_map)
     if settings.packing == "UNITY_MASK" and settings.gltf_occlusion:
         raise SeamlessAOError("a Unity mask map carries the AO in G, and glTF reads occlusion from R: turn glTF "
                               "occlusion off to write one")
@@ -178,15 +222,15 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
         if not fitness.can_hold_ao and not settings.unfit_uv_map:
             raise SeamlessAOError("'{}': its UV map '{}' cannot hold the AO: {}; pick another UV map, or resample "
                                   "anyway (Even If Unfit)".format(ob.name, target, "; ".join(fitness.problems())))
-        carried = None if settings.packing == "GLTF" else material_values(ob, baked)
+        grey = settings.packing in ("GLTF", "GREY")
+        carried, textures = (None, []) if grey else material_values(ob, baked, target)
         laid = resample_to_uv(baked.ao_image, baked.layer_uv, baked.mesh.corner_normals, baked.target_uv,
                               settings.size, settings.padding, baked.mesh.degenerate,
                               *node_inputs(ob, baked, settings.material_strength), per_triangle=carried)
-        values = laid[0]
-        if carried is not None:
-            values = pack_channels(values, settings.packing, laid[2][:, :, 0], laid[2][:, :, 1])
-        image, _ = store_float_image("{}_AO_{}".format(ob.name, target), values, marks=(OURS_KEY, EXPORT_KEY),
-                                     keep_undo=False)
+        material = packed_values(laid[2], textures) if carried is not None else (None, None)
+        rgba = pack_channels(laid[0], settings.packing, *material)
+        png = encode_png(rgba[::-1, :, :PNG_CHANNELS[settings.packing]], int(settings.bit_depth))
+        image = store_png_image("{}_AO_{}".format(ob.name, target), png, marks=(OURS_KEY, EXPORT_KEY))
         if settings.gltf_occlusion:
             for material in {s.material for s in ob.material_slots if s.material is not None}:
                 hook_gltf_occlusion(material, image, target)

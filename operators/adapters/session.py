@@ -100,6 +100,8 @@ class BakeSession:
         try:
             yield 0.0, "Reading meshes"
             meshes, self.baked, occluders = self._read_meshes()
+            # Each part's occluders were read and culled to its ray reach in _read_meshes (the depsgraph is
+            # only at hand there), so the pipeline's (low, high, reach) arguments are not needed again.
             self.pipeline = BakePipeline(meshes, [b.matrix for b in self.baked], self.settings,
                                          caster_maker(self.settings), lambda part, *_: occluders[part],
                                          free_casters)

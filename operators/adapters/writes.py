@@ -2,7 +2,8 @@
 
 :class:`Transaction` makes each write with the action that undoes it;
 :class:`MaterialSnapshot` is enough of a material to put it back exactly;
-:func:`store_float_image` is the one writer of float images (bake and export);
+:func:`store_float_image` is the one writer of the bake's float images, :func:`store_png_image` of the
+exported PNG images;
 :func:`save_image_file` writes the AO next to the .blend.
 """
 
@@ -13,7 +14,7 @@ import numpy as np
 
 from ...core.keys import (AO_LAYERS, GROUP_VERSION, HELPER_KEY, IMAGE_KEY, MATERIAL_KEY, OURS_KEY, SAVE_COPY,
                           STACK_MODIFIER, VERSION_KEY)
-from ...core.png import png16
+from ...core.png import encode_png
 from ...shaders import material as material_nodes
 from ...shaders.node_group import find_node_group, node_group as build_node_group
 from . import stack
@@ -249,6 +250,29 @@ def store_float_image(name, values, marks=(OURS_KEY,), keep_undo=True):
     return image, undo
 
 
+def store_png_image(name, data, marks=(OURS_KEY,)):
+    """The image ``name`` holding the PNG file ``data`` (bytes), packed into the .blend, Non-Color.
+
+    Made new with the custom properties ``marks`` set; an image of that name Seamless AO made is replaced
+    (its users, such as the material nodes that read it, then read the new one); a user's image of that name
+    is left alone and the new one takes the next free name.
+    """
+    image = bpy.data.images.new(name, 8, 8, alpha=True)
+    image.pack(data=data, data_len=len(data))
+    image.source = "FILE"
+    image.filepath_raw = "//{}.png".format(bpy.path.clean_name(name))
+    image.colorspace_settings.name = "Non-Color"
+    image.alpha_mode = "CHANNEL_PACKED"                  # A, where there is one, is a value of its own
+    for key in marks:
+        image[key] = True
+    old = bpy.data.images.get(name)
+    if old is not None and old != image and old.get(OURS_KEY):
+        old.user_remap(image)
+        bpy.data.images.remove(old)
+        image.name = name
+    return image
+
+
 def _pixels_undo(image):
     """A function that puts ``image``'s current size and pixels back."""
     size = tuple(image.size)
@@ -349,7 +373,7 @@ def save_image_file(path, image, values, kind):
     """Write the AO to ``path``: 16-bit greyscale PNG or 32-bit float OpenEXR."""
     if kind == "PNG":
         with open(path, "wb") as handle:
-            handle.write(png16(values))
+            handle.write(encode_png(values[::-1], 16))
         return
     copy = bpy.data.images.new(SAVE_COPY, image.size[0], image.size[1], alpha=False, float_buffer=True)
     try:

@@ -56,7 +56,8 @@ def worker_environment():
 
 def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, uv_policy="auto",
           color_attribute=None, texture_size=EXPORT_DEFAULTS.size, texture_padding=EXPORT_DEFAULTS.padding,
-          report=None, progress=None, timeout=None, **settings):
+          texture_packing=EXPORT_DEFAULTS.packing, texture_bit_depth=EXPORT_DEFAULTS.bit_depth, report=None,
+          progress=None, timeout=None, **settings):
     """Bake every asset found in ``paths``; returns one :class:`~..core.batch.AssetRecord` per asset.
 
     Parameters
@@ -86,6 +87,11 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         glTF out: also write the AO as the vertex colour ``COLOR_0``.
     texture_size, texture_padding : int
         glTF out: size and padding of the occlusion texture.
+    texture_packing : {"GLTF", "GREY", "ORM"}
+        glTF out: the occlusion texture's channels (the resample's ``packing``;
+        not a Unity mask map, whose AO in G no glTF viewer reads).
+    texture_bit_depth : {"16", "8"}
+        glTF out: bits per channel of the occlusion texture's PNG.
     report : str, optional
         Write a JSON report here (schema in the README).
     progress : callable(str), optional
@@ -113,7 +119,11 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         raise SeamlessAOError("uv_policy must be one of {} (got {!r})".format(", ".join(UV_POLICIES), uv_policy))
     if timeout is not None and not timeout > 0:
         raise SeamlessAOError("timeout must be a number of seconds above 0 (got {!r})".format(timeout))
-    export = ExportSettings.from_kwargs(size=texture_size, padding=texture_padding)
+    export = ExportSettings.from_kwargs(size=texture_size, padding=texture_padding, packing=texture_packing,
+                                        bit_depth=texture_bit_depth)
+    if export.packing == "UNITY_MASK":
+        raise SeamlessAOError("a batch writes glTF, whose occlusion is read from R, and a Unity mask map carries the "
+                              "AO in G: pick GLTF, GREY or ORM packing")
     if color_attribute is not None and color_attribute not in [item[0] for item in DOMAIN_ITEMS]:
         raise SeamlessAOError("color_attribute must be one of {} (got {!r})".format(
             ", ".join(item[0] for item in DOMAIN_ITEMS), color_attribute))
@@ -134,7 +144,8 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
     outputs = plan_outputs(assets, output_dir)
     job_options = dict(settings=dataclasses.asdict(bake_settings), per_object=bool(per_object),
                        uv_policy=uv_policy, color_attribute=color_attribute, texture_size=export.size,
-                       texture_padding=export.padding)
+                       texture_padding=export.padding, texture_packing=export.packing,
+                       texture_bit_depth=export.bit_depth)
     digest = settings_digest(job_options)
 
     records = [AssetRecord(input=given, output="", error=sentence) for given, sentence in unreadable]

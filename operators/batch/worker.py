@@ -176,7 +176,8 @@ def export_glb(objects, output, job):
     for ob in objects:
         target, said = ao_uv_map(ob, job["uv_policy"], padding, size)
         warnings += said
-        resample([ob], uv_map=target, size=size, padding=padding, gltf_occlusion=True, unfit_uv_map=True)
+        resample([ob], uv_map=target, size=size, padding=padding, gltf_occlusion=True, unfit_uv_map=True,
+                 packing=job["texture_packing"], bit_depth=job["texture_bit_depth"])
     if job["color_attribute"]:
         to_color_attribute(objects, job["color_attribute"])
     for ob in objects:

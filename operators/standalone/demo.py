@@ -19,7 +19,7 @@ import bpy
 import numpy as np
 
 from ... import register
-from ...core.png import png16
+from ...core.png import encode_png
 from ..adapters.exports import image_values
 from ..adapters.preview import set_preview
 from ..adapters.session import bake
@@ -70,7 +70,7 @@ def main(argv):
     print(report.summary())
     print("  stages: " + ", ".join("{} {:.2f} s".format(k, v) for k, v in report.timings.items()))
     image = bpy.data.images[report.image]
-    (out / "demo_ao.png").write_bytes(png16(image_values(image)))
+    (out / "demo_ao.png").write_bytes(encode_png(image_values(image)[::-1], 16))
     print("Wrote", out / "demo_ao.png")
     set_preview(objects, True)          # render the AO alone
     start = time.perf_counter()

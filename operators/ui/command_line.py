@@ -76,6 +76,11 @@ def add_batch_parser(actions):
                               help="glTF out: occlusion texture size (default %(default)s)")
     batch_parser.add_argument("--texture-padding", type=int, default=DEFAULT_EXPORT.padding, metavar="N",
                               help="glTF out: texels of dilation around UV islands (default %(default)s)")
+    batch_parser.add_argument("--texture-packing", choices=["GLTF", "GREY", "ORM"], default=DEFAULT_EXPORT.packing,
+                              help="glTF out: the occlusion texture's channels: grey RGB (GLTF, the default), one "
+                              "grey channel (GREY), or occlusion-roughness-metallic (ORM)")
+    batch_parser.add_argument("--texture-bit-depth", choices=["16", "8"], default=DEFAULT_EXPORT.bit_depth,
+                              help="glTF out: bits per channel of the occlusion texture (default %(default)s)")
     batch_parser.add_argument("--report", metavar="FILE.json", help="write a JSON report, one record per asset")
     batch_parser.add_argument("--timeout", type=float, metavar="SECONDS",
                               help="stop an asset's worker after this long and report the asset failed")
@@ -144,9 +149,7 @@ def run(argv):
             settings = scene_export_settings(bpy.context.scene).replace(
                 **given_options(args, export_fields(RESAMPLE_FIELDS)))
             if not args.no_texture:
-                names = resample(objects, settings.uv_map or None, settings.size, settings.padding,
-                                 settings.gltf_occlusion, settings.material_strength, settings.packing,
-                                 settings.unfit_uv_map)
+                names = resample(objects, **{name: getattr(settings, name) for name in RESAMPLE_FIELDS})
                 print("Resampled AO into " + ", ".join(names))
             if args.color_attribute:
                 to_color_attribute(objects, args.color_attribute, settings.material_strength)
@@ -181,7 +184,9 @@ def run_batch(args):
         records = batch(args.paths, output_dir=args.output_dir, jobs=args.jobs, pattern=args.glob,
                         force=args.force, per_object=args.per_object, uv_policy=args.uv_policy,
                         color_attribute=args.color_attribute,
-                        texture_size=args.texture_size, texture_padding=args.texture_padding, report=args.report,
+                        texture_size=args.texture_size, texture_padding=args.texture_padding,
+                        texture_packing=args.texture_packing, texture_bit_depth=args.texture_bit_depth,
+                        report=args.report,
                         timeout=args.timeout, **bake_options(args))
     except SeamlessAOError as error:
         print("seamless_ao: error: {}".format(error), file=sys.stderr)

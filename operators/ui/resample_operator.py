@@ -20,6 +20,5 @@ class OBJECT_OT_seamless_ao_resample(ExportOperator, bpy.types.Operator):
     fields = RESAMPLE_FIELDS
 
     def export(self, context):
-        names = resample(baked_targets(context), self.uv_map or None, self.size, self.padding,
-                         self.gltf_occlusion, self.material_strength, self.packing, self.unfit_uv_map)
+        names = resample(baked_targets(context), **{name: getattr(self, name) for name in RESAMPLE_FIELDS})
         return "Resampled AO into " + ", ".join(names)

@@ -119,16 +119,82 @@ def test_packed_images_carry_each_value_in_its_channel(packing, channels, fresh_
     principled.inputs["Roughness"].default_value, principled.inputs["Metallic"].default_value = 0.3, 0.8
     ob.data.materials.append(material)
     addon.bake([ob], rays=8, image_size=256)
-    plain = image_array(bpy.data.images[addon.resample([ob], size=128)[0]]).copy()
+    plain_name = addon.resample([ob], size=128)[0]
+    plain = image_array(bpy.data.images[plain_name]).copy()
     name = addon.resample([ob], size=128, packing=packing, gltf_occlusion=False)[0]
-    image = bpy.data.images[name]
-    pixels = np.empty(len(image.pixels), dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    pixels = pixels.reshape(128, 128, 4)
-    assert np.abs(pixels[:, :, channels["occlusion"]] - plain).max() < 1e-6
+    assert name == plain_name and len(bpy.data.images) == 2           # replaced, not piled up (AO image + it)
+    pixels = rgba(bpy.data.images[name])
+    assert np.abs(pixels[:, :, channels["occlusion"]] - plain).max() == 0.0     # the same 16-bit levels
     expected = {"roughness": 0.3, "metallic": 0.8, "smoothness": 0.7, "detail": 0.0}
     for name, channel in channels.items():
         if name != "occlusion":
-            assert np.abs(pixels[:, :, channel] - expected[name]).max() < 1e-6, name
+            assert np.abs(pixels[:, :, channel] - expected[name]).max() <= 0.5 / 65535 + 1e-7, name
     with pytest.raises(addon.SeamlessAOError, match="Unity mask map carries the AO in G"):
         addon.resample([ob], packing="UNITY_MASK", gltf_occlusion=True)
+
+
+def rgba(image):
+    """(h, w, 4) float32 pixels of a Blender image, rows bottom up."""
+    pixels = np.empty(len(image.pixels), dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    return pixels.reshape(image.size[1], image.size[0], 4)
+
+
+def test_orm_takes_roughness_and_metallic_from_the_materials_texture_on_the_same_uv_map(fresh_scene, addon):
+    """A metallic-roughness texture (roughness in G, metallic in B, through Separate Color) read through the UV
+    map resampled onto: the ORM image carries its texels, not the Principled inputs' unlinked values.  Read
+    through another UV map, it cannot be laid texel for texel, and the inputs' values stand."""
+    from blender_scenes import suzanne
+    ob = suzanne(1)
+    size = 64
+    texture = bpy.data.images.new("Metal Roughness", size, size, float_buffer=True)
+    texture.colorspace_settings.name = "Non-Color"
+    u, v = np.meshgrid((np.arange(size) + 0.5) / size, (np.arange(size) + 0.5) / size)
+    texels = np.stack([np.zeros_like(u), u, v * v, np.ones_like(u)], axis=-1)        # rows bottom up, as v
+    texture.pixels.foreach_set(texels.astype(np.float32).ravel())
+    material = bpy.data.materials.new("Textured")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    principled = next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    principled.inputs["Roughness"].default_value, principled.inputs["Metallic"].default_value = 0.3, 0.8
+    image_node, split, uv_node = (nodes.new(kind) for kind in ("ShaderNodeTexImage", "ShaderNodeSeparateColor",
+                                                               "ShaderNodeUVMap"))
+    image_node.image = texture
+    uv_node.uv_map = "UVMap"
+    links.new(uv_node.outputs["UV"], image_node.inputs["Vector"])
+    links.new(image_node.outputs["Color"], split.inputs["Color"])
+    links.new(split.outputs["Green"], principled.inputs["Roughness"])
+    links.new(split.outputs["Blue"], principled.inputs["Metallic"])
+    ob.data.materials.append(material)
+    addon.bake([ob], rays=8, image_size=256)
+    pixels = rgba(bpy.data.images[addon.resample([ob], size=size, packing="ORM", gltf_occlusion=False)[0]])
+    limit = 0.5 / 65535 + 1e-6
+    assert np.abs(pixels[:, :, 1] - texels[:, :, 1]).max() <= limit            # G: roughness, texel for texel
+    assert np.abs(pixels[:, :, 2] - texels[:, :, 2]).max() <= limit            # B: metallic
+    ob.data.uv_layers.new(name="Second")
+    uv_node.uv_map = "Second"
+    pixels = rgba(bpy.data.images[addon.resample([ob], size=size, packing="ORM", gltf_occlusion=False)[0]])
+    assert np.abs(pixels[:, :, 1] - 0.3).max() <= limit and np.abs(pixels[:, :, 2] - 0.8).max() <= limit
+
+
+def test_batch_ships_a_greyscale_8_bit_occlusion_texture_that_reads_back_right(shipped, tmp_path):
+    """--texture-packing GREY --texture-bit-depth 8: the GLB embeds a one-channel 8-bit PNG, passes the
+    validator, and read back through its texCoord shows the AO of the plain reference."""
+    from gltf_checks import png_header
+    clean = pathlib.Path(shipped["clean"][0].input)
+    records = seamless_ao.batch([str(clean)], output_dir=str(tmp_path), jobs=1, texture_packing="GREY",
+                                texture_bit_depth="8", progress=lambda line: None, **SETTINGS)
+    assert [r.status for r in records] == ["baked"], [r.error for r in records]
+    output = records[0].output
+    report = validate([output])[str(output)]
+    assert report["errors"] == 0 and report["warnings"] == 0, report["messages"]
+    document, binary = read_glb(output)
+    headers = {png_header(data) for _, _, _, data in occlusion_images(document, binary).values()}
+    assert headers == {(512, 512, 8, 1)}
+    points, shading, geometric, shown, (positions, triangles) = shown_occlusion(output)
+    reference = plain_ao(positions, triangles, points, shading, geometric, REACH, rays=1024, seed=9)
+    rmse, p99 = errors(shown, reference)
+    assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (rmse, p99)
+    with pytest.raises(seamless_ao.SeamlessAOError, match="Unity mask map carries the AO in G"):
+        seamless_ao.batch([str(clean)], output_dir=str(tmp_path), texture_packing="UNITY_MASK")

@@ -10,16 +10,17 @@ import pytest
 from seamless_ao.core.ao import settle_pilot
 from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
-from seamless_ao.core.transfer import vertex_average
+from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.graph import sort_order
 from seamless_ao.core.overlap import candidate_pairs, segment_distance
-from seamless_ao.core.png import png16
+from seamless_ao.core.png import encode_png
 from seamless_ao.core.rays import AOParams, ao_params
 from seamless_ao.core.settings import BakeSettings, ExportSettings
 
 
-def decode_png16(data):
-    """(height, width) uint16 of a greyscale 16-bit PNG with filter 0 rows (what png16 writes)."""
+def decode_png(data):
+    """(height, width, channels) uint16 levels and the bit depth of PNG bytes, top row first, for the rows'
+    filters None and Up (the two any writer here uses); checks every chunk's CRC."""
     assert data[:8] == b"\x89PNG\r\n\x1a\n"
     position, chunks = 8, {}
     while position < len(data):
@@ -31,18 +32,33 @@ def decode_png16(data):
         chunks[kind] = chunks.get(kind, b"") + payload
         position += 12 + length
     width, height, depth, colour = struct.unpack(">IIBB", chunks[b"IHDR"][:10])
-    assert (depth, colour) == (16, 0)
-    raw = np.frombuffer(zlib.decompress(chunks[b"IDAT"]), dtype=np.uint8).reshape(height, 1 + 2 * width)
-    assert (raw[:, 0] == 0).all()
-    return raw[:, 1:].copy().view(">u2").astype(np.uint16)
+    channels = {0: 1, 4: 2, 2: 3, 6: 4}[colour]
+    row_bytes = width * channels * depth // 8
+    raw = np.frombuffer(zlib.decompress(chunks[b"IDAT"]), dtype=np.uint8).reshape(height, 1 + row_bytes)
+    rows = np.zeros((height, row_bytes), dtype=np.uint8)
+    for y in range(height):
+        assert raw[y, 0] in (0, 2), "filter {}".format(raw[y, 0])
+        above = rows[y - 1] if (y > 0 and raw[y, 0] == 2) else 0
+        rows[y] = raw[y, 1:] + above                          # uint8 wraps as PNG's modulo 256
+    levels = rows.view(">u2") if depth == 16 else rows
+    return levels.astype(np.uint16).reshape(height, width, channels), depth
 
 
-def test_png16_round_trips_with_blenders_row_order():
-    values = np.random.default_rng(0).random((5, 7))
-    values[0, 0], values[4, 6] = -0.5, 1.5                  # clipped
-    decoded = decode_png16(png16(values))
-    expected = np.round(np.clip(values, 0.0, 1.0) * 65535.0)[::-1]     # PNG's first row is the top
-    assert decoded.shape == (5, 7) and np.array_equal(decoded, expected)
+@pytest.mark.parametrize("bit_depth", [8, 16])
+@pytest.mark.parametrize("channels", [1, 2, 3, 4])
+def test_encode_png_round_trips_every_depth_and_channel_count(bit_depth, channels):
+    values = np.random.default_rng(channels).random((5, 7, channels))
+    values[0, 0, 0], values[4, 6, -1] = -0.5, 1.5                        # clipped
+    decoded, depth = decode_png(encode_png(values if channels > 1 else values[:, :, 0], bit_depth))
+    expected = np.round(np.clip(values, 0.0, 1.0) * (2 ** bit_depth - 1))
+    assert depth == bit_depth and decoded.shape == (5, 7, channels) and np.array_equal(decoded, expected)
+
+
+def test_encode_png_refuses_what_no_png_can_hold():
+    for values, depth in ((np.full((2, 2), np.nan), 8), (np.zeros((2, 2, 5)), 8), (np.zeros((0, 3)), 8),
+                          (np.zeros((2, 2)), 12)):
+        with pytest.raises(ValueError):
+            encode_png(values, depth)
 
 
 def test_vertex_average_means_corners_and_leaves_unused_vertices_open():
@@ -178,3 +194,14 @@ def test_sort_order_is_lexsort_most_significant_first(spans):
     keys[1][::7] = keys[1][0]                   # plenty of ties, which must keep their input order
     assert np.array_equal(sort_order(*keys), np.lexsort(keys[::-1]))
     assert sort_order(np.zeros(0, dtype=np.int64)).shape == (0,)
+
+
+def test_sample_repeat_hits_texel_centres_blends_between_them_and_wraps():
+    values = np.random.default_rng(3).random((4, 6))
+    uv = texel_uv(6, 4)
+    assert uv.shape == (4, 6, 2) and np.allclose(sample_repeat(values, uv), values)
+    assert np.allclose(sample_repeat(values, uv + [2.0, -1.0]), values)                 # repeats both ways
+    between = (uv[1, 2] + uv[1, 3]) / 2
+    assert np.isclose(sample_repeat(values, between), (values[1, 2] + values[1, 3]) / 2)
+    edge = np.array([0.0, uv[2, 0, 1]])                                                  # u = 0: half way round
+    assert np.isclose(sample_repeat(values, edge), (values[2, 0] + values[2, 5]) / 2)
