@@ -27,7 +27,7 @@ import numpy as np
 
 from ...core.assets import AssetRecord, partial_output
 from ...core.errors import SeamlessAOError
-from ...core.keys import AO_LAYERS, AO_UV, COLOR_ATTRIBUTE
+from ...core.keys import AO_LAYERS, AO_UV, COLOR_ATTRIBUTE, GLTF_NODES
 from ...core.settings import BakeSettings
 from ...shaders import material as material_nodes
 from ..adapters.exports import own_uv_map, resample, to_color_attribute, uv_map_fitness
@@ -167,6 +167,22 @@ def ao_uv_map(ob, policy, padding, size):
                                        "map {} (glTF TEXCOORD_1)".format(ob.name, target, reason, AO_UV)]
 
 
+def share_orm(ob, target):
+    """With ORM packing, a material whose Roughness or Metallic comes from a texture on the AO's UV map reads
+    both from the ORM image's G and B instead (which hold that texture's texels there), so the glTF carries
+    one image as its occlusion and metallic-roughness texture.  Only the batch's loaded copy changes."""
+    render_active = next((uv.name for uv in ob.data.uv_layers if uv.active_render), "")
+    for material in {slot.material for slot in ob.material_slots if slot.material is not None}:
+        split = material.node_tree.nodes.get(GLTF_NODES[2])
+        principled = next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"), None)
+        textures = [texture for _, texture in material_nodes.principled_values(material).values() if texture]
+        if split is None or principled is None or not any((uv or render_active) == target for _, _, uv in textures):
+            continue
+        links = material.node_tree.links
+        links.new(split.outputs["Green"], principled.inputs["Roughness"])
+        links.new(split.outputs["Blue"], principled.inputs["Metallic"])
+
+
 def export_glb(objects, output, job):
     """Resample the AO onto each object's UV map, wire it as occlusion and write ``output`` (.glb); returns
     the warnings about the UV maps."""
@@ -178,6 +194,8 @@ def export_glb(objects, output, job):
         warnings += said
         resample([ob], uv_map=target, size=size, padding=padding, gltf_occlusion=True, unfit_uv_map=True,
                  packing=job["texture_packing"], bit_depth=job["texture_bit_depth"])
+        if job["texture_packing"] == "ORM":
+            share_orm(ob, target)
     if job["color_attribute"]:
         to_color_attribute(objects, job["color_attribute"])
     for ob in objects:

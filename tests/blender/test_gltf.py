@@ -198,3 +198,41 @@ def test_batch_ships_a_greyscale_8_bit_occlusion_texture_that_reads_back_right(s
     assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (rmse, p99)
     with pytest.raises(seamless_ao.SeamlessAOError, match="Unity mask map carries the AO in G"):
         seamless_ao.batch([str(clean)], output_dir=str(tmp_path), texture_packing="UNITY_MASK")
+
+
+def test_orm_packing_ships_one_image_as_occlusion_and_metallic_roughness(tmp_path):
+    """A batch with ORM packing, on an asset whose materials read a metallic-roughness texture: each
+    material's occlusionTexture and metallicRoughnessTexture are one image, whose G and B are the asset's
+    roughness and metallic texels and whose R reads back as the AO of the plain reference."""
+    from batch_assets import metal_roughness_glb
+    from gltf_checks import decode_png
+    folder = tmp_path / "assets"
+    folder.mkdir()
+    metal_roughness_glb(folder / "metal.glb")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    records = seamless_ao.batch([str(folder)], output_dir=str(tmp_path / "out"), jobs=1, texture_packing="ORM",
+                                progress=lambda line: None, **SETTINGS)
+    assert [r.status for r in records] == ["baked"], [r.error for r in records]
+    output = records[0].output
+    report = validate([output])[str(output)]
+    assert report["errors"] == 0 and report["warnings"] == 0, report["messages"]
+    document, binary = read_glb(output)
+    textured = [m for m in document["materials"] if "occlusionTexture" in m]
+    assert len(textured) == 2                                       # box and floor, each its own copy
+    for material in textured:
+        occlusion = material["occlusionTexture"]
+        metal_rough = material["pbrMetallicRoughness"]["metallicRoughnessTexture"]
+        source = {document["textures"][t["index"]]["source"] for t in (occlusion, metal_rough)}
+        assert len(source) == 1 and occlusion.get("texCoord", 0) == metal_rough.get("texCoord", 0)
+        image = document["images"][source.pop()]
+        view = document["bufferViews"][image["bufferView"]]
+        pixels = decode_png(binary[view.get("byteOffset", 0):view.get("byteOffset", 0) + view["byteLength"]])
+        height, width = pixels.shape[:2]
+        u, v = np.meshgrid((np.arange(width) + 0.5) / width, (np.arange(height) + 0.5) / height)
+        inner = (u > 1 / 64) & (u < 1 - 1 / 64) & (v > 1 / 64) & (v < 1 - 1 / 64)   # the texture repeats
+        assert np.abs(pixels[:, :, 1] - (0.2 + 0.6 * u))[inner].max() < 1e-3       # roughness, from G
+        assert np.abs(pixels[:, :, 2] - v)[inner].max() < 1e-3                     # metallic, from B
+    points, shading, geometric, shown, (positions, triangles) = shown_occlusion(output)
+    reference = plain_ao(positions, triangles, points, shading, geometric, REACH, rays=1024, seed=9)
+    rmse, p99 = errors(shown, reference)
+    assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (rmse, p99)

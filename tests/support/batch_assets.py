@@ -18,6 +18,7 @@ UVs, several materials on one object; :func:`other_formats` writes a small scene
 
 import addon_utils
 import bpy
+import numpy as np
 
 
 def _scene():
@@ -135,6 +136,35 @@ def materials_glb(path):
         box.data.materials.append(material)
     box.data.polygons.foreach_set("material_index", [k % 3 for k in range(len(box.data.polygons))])
     _export_glb(path)
+
+
+def metal_roughness_glb(path, size=64):
+    """A box on a floor, both with a metallic-roughness texture (roughness 0.2 + 0.6 u in G, metallic v in B)
+    on their own clean UV maps: the case ORM packing merges the AO into."""
+    _scene()
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 0.5))
+    box = bpy.context.active_object
+    floor = _plate()
+    texture = bpy.data.images.new("Metal Roughness", size, size, float_buffer=True)
+    texture.colorspace_settings.name = "Non-Color"
+    u, v = np.meshgrid((np.arange(size) + 0.5) / size, (np.arange(size) + 0.5) / size)
+    texels = np.stack([np.ones_like(u), 0.2 + 0.6 * u, v, np.ones_like(u)], axis=-1)
+    texture.pixels.foreach_set(texels.astype(np.float32).ravel())
+    texture.pack()
+    material = bpy.data.materials.new("Textured Metal")
+    if bpy.app.version < (5, 0, 0):
+        material.use_nodes = True
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    principled = next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    image_node, split = nodes.new("ShaderNodeTexImage"), nodes.new("ShaderNodeSeparateColor")
+    image_node.image = texture
+    links.new(image_node.outputs["Color"], split.inputs["Color"])
+    links.new(split.outputs["Green"], principled.inputs["Roughness"])
+    links.new(split.outputs["Blue"], principled.inputs["Metallic"])
+    for ob in (box, floor):
+        ob.data.materials.append(material)
+    _export_glb(path)
+    return texels
 
 
 def uv_cases(folder):
