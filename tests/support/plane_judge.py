@@ -75,6 +75,16 @@ def _inside(point, triangle, slack):
     return (d[0] > slack) & (d[1] > slack) & (d[2] > slack)
 
 
+def _edge_pairs(first, second):
+    """For each edge of ``first`` against each edge of ``second`` (k, 3, 2): ``(p0, p1, d1, d2, d3, d4)``, the
+    first's edge and the signed areas of each edge's ends against the other edge's line."""
+    for p in range(3):
+        p0, p1 = first[:, p], first[:, (p + 1) % 3]
+        for q in range(3):
+            q0, q1 = second[:, q], second[:, (q + 1) % 3]
+            yield p0, p1, _cross(q0, q1, p0), _cross(q0, q1, p1), _cross(p0, p1, q0), _cross(p0, p1, q1)
+
+
 def interiors_overlap(first, second, slack=1e-12):
     """(k,) bool: the open interiors of triangle pairs (k, 3, 2) share a region (touching edges do not count).
 
@@ -82,13 +92,8 @@ def interiors_overlap(first, second, slack=1e-12):
     of the other, or a corner or the centre of one lies inside the other.
     """
     meet = np.zeros(len(first), dtype=bool)
-    for p in range(3):
-        p0, p1 = first[:, p], first[:, (p + 1) % 3]
-        for q in range(3):
-            q0, q1 = second[:, q], second[:, (q + 1) % 3]
-            d1, d2 = _cross(q0, q1, p0), _cross(q0, q1, p1)
-            d3, d4 = _cross(p0, p1, q0), _cross(p0, p1, q1)
-            meet |= (d1 * d2 < -slack) & (d3 * d4 < -slack)
+    for _, _, d1, d2, d3, d4 in _edge_pairs(first, second):
+        meet |= (d1 * d2 < -slack) & (d3 * d4 < -slack)
     for one, other in ((first, second), (second, first)):
         meet |= _inside(one.mean(axis=1), other, slack)
         for corner in range(3):
@@ -126,16 +131,11 @@ def overlap_point(first, second):
             inside = _inside(one[:, corner], other, -1e-12)
             total += np.where(inside[:, None], one[:, corner], 0.0)
             count += inside
-    for p in range(3):
-        p0, p1 = first[:, p], first[:, (p + 1) % 3]
-        for q in range(3):
-            q0, q1 = second[:, q], second[:, (q + 1) % 3]
-            d1, d2 = _cross(q0, q1, p0), _cross(q0, q1, p1)
-            d3, d4 = _cross(p0, p1, q0), _cross(p0, p1, q1)
-            crossing = (d1 * d2 < 0) & (d3 * d4 < 0)
-            t = d1 / np.where(crossing, d1 - d2, 1.0)
-            total += np.where(crossing[:, None], p0 + t[:, None] * (p1 - p0), 0.0)
-            count += crossing
+    for p0, p1, d1, d2, d3, d4 in _edge_pairs(first, second):
+        crossing = (d1 * d2 < 0) & (d3 * d4 < 0)
+        t = d1 / np.where(crossing, d1 - d2, 1.0)
+        total += np.where(crossing[:, None], p0 + t[:, None] * (p1 - p0), 0.0)
+        count += crossing
     return total / np.maximum(count, 1)[:, None]
 
 
