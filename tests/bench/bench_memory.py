@@ -62,8 +62,7 @@ def measure(mesh_name, image_size):
     def noting(settings, triangles, pixels, texels):
         estimates.append(budget.estimated_bytes(triangles, texels, pixels) / 2**20)
         return original(settings, triangles, pixels, texels)
-    budget_check = sys.modules["seamless_ao.operators.adapters.session"]
-    budget_check.check_budget = noting
+    sys.modules["seamless_ao.core.pipeline"].check_budget = noting      # where the bake asks the budget
     before = resident_mb()
     peak_before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     report = package.seamless_ao.bake([ob], image_size=image_size, rays=16)
