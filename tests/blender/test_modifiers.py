@@ -13,7 +13,7 @@ from blender_checks import image_array, uv_layer_array
 from package import seamless_ao
 from plain_reference import plain_ao, visible_points
 from seamless_ao.core.blend import blended_ao
-from seamless_ao.core.keys import STACK_MODIFIER, STALE_ATTRIBUTE
+from seamless_ao.core.keys import IMAGE_KEY, STACK_MODIFIER, STALE_ATTRIBUTE
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 #: Issue 28's limits on the evaluated surface.
@@ -299,3 +299,48 @@ def test_a_floor_under_a_collection_instance_is_darker_beneath_it(fresh_scene, a
     assert beneath.sum() >= 10 and reference[beneath].mean() < 0.6 and shown[beneath].mean() < 0.6
     rmse, p99 = errors(shown, reference)
     assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (rmse, p99)
+
+
+def test_a_batch_bakes_a_blend_with_a_live_stack_and_an_instance_as_it_renders(tmp_path, fresh_scene, addon):
+    """A .blend with a mirrored, subdivided, bevelled half Suzanne (far from the rest) and a floor under a
+    collection instance of a box, through the batch: the output keeps the stack live (the Seamless AO
+    modifier last, nothing applied), shows the AO of the plain reference on the evaluated surface, and the
+    floor is darker beneath the instance than far from it."""
+    ob = mirrored_half_monkey()
+    ob.location = (100.0, 0.0, 0.0)                       # out of every other object's reach, and they of its
+    stack = [(m.name, m.type) for m in ob.modifiers]
+    vertices = len(ob.data.vertices)
+    collection = bpy.data.collections.new("Props")
+    bpy.ops.mesh.primitive_cube_add(size=1.0)
+    box = bpy.context.active_object
+    for owner in list(box.users_collection):
+        owner.objects.unlink(box)
+    collection.objects.link(box)
+    instance = bpy.data.objects.new("Prop instance", None)
+    instance.instance_type, instance.instance_collection = "COLLECTION", collection
+    instance.location = (0.0, 0.0, 0.6)
+    bpy.context.scene.collection.objects.link(instance)
+    bpy.ops.mesh.primitive_plane_add(size=6.0)
+    bpy.context.active_object.name = "Floor"
+    source = tmp_path / "scene.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(source))
+    records = seamless_ao.batch([str(source)], output_dir=str(tmp_path / "out"), jobs=1, progress=lambda line: None,
+                                **SETTINGS)
+    assert [r.status for r in records] == ["baked"], [r.error for r in records]
+    bpy.ops.wm.open_mainfile(filepath=records[0].output, load_ui=False)
+    ob, floor = bpy.data.objects["Suzanne"], bpy.data.objects["Floor"]
+    assert [(m.name, m.type) for m in ob.modifiers] == stack + [(STACK_MODIFIER, "NODES")]
+    assert len(ob.data.vertices) == vertices
+    as_it_renders(ob)
+    shown, mesh, triangle, bary, normals = shown_on_the_evaluated_surface(ob, bpy.data.images[ob[IMAGE_KEY]])
+    rmse, p99 = errors(shown, reference_ao(ob, mesh, triangle, bary, normals, rays=1024))
+    assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (rmse, p99)
+    mesh, loops = read_triangles(floor.data)
+    triangle, bary, normals = surface_samples(mesh, 1500, seed=4)
+    uv = [uv_layer_array(floor.data, name) for name in ("AO_X", "AO_Y", "AO_Z")]
+    layer_uv = np.stack([np.einsum("kc,kcd->kd", bary, layer[loops[triangle]]) for layer in uv], axis=1)
+    shown = blended_ao(image_array(bpy.data.images[floor[IMAGE_KEY]]), layer_uv, normals)
+    points = np.einsum("kc,kcd->kd", bary, mesh.positions[mesh.triangles[triangle]])
+    beneath, far = np.abs(points[:, :2]).max(axis=1) < 0.5, np.abs(points[:, :2]).max(axis=1) > 2.5
+    assert beneath.sum() >= 10 and far.sum() >= 10
+    assert shown[beneath].mean() < 0.6 and shown[far].mean() > 0.85, (shown[beneath].mean(), shown[far].mean())
