@@ -20,7 +20,7 @@ import bpy
 
 import package
 from blender_scenes import suzanne
-from seamless_ao.operators import casters, mesh_data
+from seamless_ao.operators.adapters import mesh_data, session
 
 SETTINGS = dict(image_size=512, rays=16, use_scene_occluders=True)
 
@@ -41,13 +41,13 @@ def far_spheres(count):
 def timed(ob, runs):
     """(median seconds, occluder triangles given to the caster)."""
     seen = []
-    original = casters.scene_occluders
+    original = session.scene_occluders                  # as the bake session calls it
 
     def counting(*args):
-        for positions, triangles in original(*args):
-            seen.append(len(triangles))
-            yield positions, triangles
-    casters.scene_occluders = counting
+        found = original(*args)
+        seen.extend(len(triangles) for _, triangles in found)
+        return found
+    session.scene_occluders = counting
     try:
         package.seamless_ao.bake([ob], **SETTINGS)                     # warm-up
         seen.clear()
@@ -58,7 +58,7 @@ def timed(ob, runs):
             times.append(time.perf_counter() - start)
         return statistics.median(times), sum(seen) // runs
     finally:
-        casters.scene_occluders = original
+        session.scene_occluders = original
 
 
 def main():
