@@ -158,15 +158,19 @@ def read_object(ob, depsgraph):
 
 def world_boxes(depsgraph):
     """``(instances, low (k, 3), high (k, 3))``: every mesh the depsgraph shows (objects, collection instances,
-    Geometry Nodes and particle instances, modifiers evaluated), each as ``(evaluated object, world matrix,
-    is an instance)``, with its world bounding box (read once per bake: with hundreds of objects baked
-    together, reading them again for each took seconds)."""
+    Geometry Nodes and particle instances, modifiers evaluated), each as ``((evaluated mesh, original
+    object), world matrix, is an instance)``, with its world bounding box (read once per bake: with hundreds of objects baked
+    together, reading them again for each took seconds).
+
+    The object an instance hands over lives only while the iteration stands on it (reading it later crashed
+    Blender now and then), so what is kept is its evaluated mesh and its original object, taken there."""
     instances, corners = [], []
     for instance in depsgraph.object_instances:
         ob = instance.object
         if ob.type != "MESH":
             continue
-        instances.append((ob, np.array(instance.matrix_world, dtype=np.float64), bool(instance.is_instance)))
+        instances.append(((ob.data, ob.original), np.array(instance.matrix_world, dtype=np.float64),
+                          bool(instance.is_instance)))
         corners.append(np.array(ob.bound_box, dtype=np.float64))
     if not instances:
         return instances, np.zeros((0, 3)), np.zeros((0, 3))
@@ -185,10 +189,9 @@ def scene_occluders(boxes, exclude, low, high, reach):
     geometry, cache = [], {}
     if not instances:
         return geometry
-    for (ob, matrix, is_instance), keep in zip(instances, boxes_near(low, high, lows, highs, reach)):
-        if not keep or (not is_instance and ob.original == exclude):
+    for ((mesh, original), matrix, is_instance), keep in zip(instances, boxes_near(low, high, lows, highs, reach)):
+        if not keep or (not is_instance and original == exclude):
             continue
-        mesh = ob.data
         key = mesh.as_pointer()
         if key not in cache:
             cache[key] = triangle_arrays(mesh)

@@ -275,7 +275,7 @@ def test_scene_occluders_take_only_objects_within_the_ray_distance(addon, fresh_
     depsgraph = bpy.context.evaluated_depsgraph_get()
     low, high = np.array([-1.37, -0.86, -0.99]), np.array([1.37, 0.86, 0.99])
     boxes = world_boxes(depsgraph)
-    assert sorted(ob.name for ob, _, _ in boxes[0]) == ["Ball", "Far", "Near"]
+    assert sorted(original.name for (_, original), _, _ in boxes[0]) == ["Ball", "Far", "Near"]
     near_geometry = scene_occluders(boxes, ball, low, high, 1.0)
     assert len(near_geometry) == 1 and len(near_geometry[0][1]) == sum(len(f.vertices) - 2 for f in near.data.polygons)
     assert scene_occluders(boxes, ball, low, high, 0.1) == []

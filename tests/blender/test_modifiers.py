@@ -263,9 +263,9 @@ def test_linked_duplicates_baked_together_each_get_their_own_ao(fresh_scene, add
         assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (ob.name, rmse, p99)
 
 
-def test_a_floor_under_a_collection_instance_is_darker_beneath_it(fresh_scene, addon):
-    """Scene occluders see instances: a floor under a collection instance of a box, against the plain
-    reference on the realised geometry (the floor and the box where the instance puts it)."""
+def floor_under_an_instanced_box():
+    """A 6 x 6 floor named Floor under a collection instance (0.6 up) of a unit box that is in no scene itself:
+    ``(floor, box)``."""
     collection = bpy.data.collections.new("Props")
     bpy.ops.mesh.primitive_cube_add(size=1.0)
     box = bpy.context.active_object
@@ -278,7 +278,15 @@ def test_a_floor_under_a_collection_instance_is_darker_beneath_it(fresh_scene, a
     bpy.context.scene.collection.objects.link(instance)
     bpy.ops.mesh.primitive_plane_add(size=6.0)
     floor = bpy.context.active_object
+    floor.name = "Floor"
     bpy.context.view_layer.update()
+    return floor, box
+
+
+def test_a_floor_under_a_collection_instance_is_darker_beneath_it(fresh_scene, addon):
+    """Scene occluders see instances: a floor under a collection instance of a box, against the plain
+    reference on the realised geometry (the floor and the box where the instance puts it)."""
+    floor, box = floor_under_an_instanced_box()
     report = seamless_ao.bake([floor], use_scene_occluders=True, **SETTINGS)
     mesh, loops = read_triangles(floor.data)
     triangle, bary, normals = surface_samples(mesh, 1500, seed=4)
@@ -310,18 +318,7 @@ def test_a_batch_bakes_a_blend_with_a_live_stack_and_an_instance_as_it_renders(t
     ob.location = (100.0, 0.0, 0.0)                       # out of every other object's reach, and they of its
     stack = [(m.name, m.type) for m in ob.modifiers]
     vertices = len(ob.data.vertices)
-    collection = bpy.data.collections.new("Props")
-    bpy.ops.mesh.primitive_cube_add(size=1.0)
-    box = bpy.context.active_object
-    for owner in list(box.users_collection):
-        owner.objects.unlink(box)
-    collection.objects.link(box)
-    instance = bpy.data.objects.new("Prop instance", None)
-    instance.instance_type, instance.instance_collection = "COLLECTION", collection
-    instance.location = (0.0, 0.0, 0.6)
-    bpy.context.scene.collection.objects.link(instance)
-    bpy.ops.mesh.primitive_plane_add(size=6.0)
-    bpy.context.active_object.name = "Floor"
+    floor_under_an_instanced_box()
     source = tmp_path / "scene.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(source))
     records = seamless_ao.batch([str(source)], output_dir=str(tmp_path / "out"), jobs=1, progress=lambda line: None,
