@@ -60,22 +60,29 @@ def blend_inputs(material):
 SEPARATED = {"Red": 0, "Green": 1, "Blue": 2, "R": 0, "G": 1, "B": 2}
 
 
-def principled_values(material):
+def principled_bsdf(material):
+    """The material's first Principled BSDF node, or None."""
+    if material is None or material.node_tree is None:
+        return None
+    return next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"), None)
+
+
+def principled_values(material, default_uv_map):
     """How the material's first Principled BSDF sets Roughness and Metallic: ``{name: (value, texture)}``, value
     the input's own value (0.5 and 0 without a Principled BSDF), texture ``(image, channel, uv_map)`` when one
     channel of an Image Texture feeds the input through a Separate Color (RGB) node, as a metallic-roughness
-    texture does (channel 0..2 for R, G, B; uv_map the UV Map node's map on the texture's Vector, "" for none:
-    the render-active map), else None (any other link: the value counts)."""
-    principled = None
-    if material is not None and material.node_tree is not None:
-        principled = next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"), None)
+    texture does (channel 0..2 for R, G, B; uv_map the UV Map node's map on the texture's Vector, or
+    ``default_uv_map``, the object's render-active map, where there is none), else None (any other link: the
+    value counts)."""
+    principled = principled_bsdf(material)
     if principled is None:
         return {"Roughness": (0.5, None), "Metallic": (0.0, None)}
-    return {name: (float(principled.inputs[name].default_value), _texture_channel(principled.inputs[name]))
+    return {name: (float(principled.inputs[name].default_value),
+                   _texture_channel(principled.inputs[name], default_uv_map))
             for name in ("Roughness", "Metallic")}
 
 
-def _texture_channel(socket):
+def _texture_channel(socket, default_uv_map):
     """``(image, channel, uv_map)`` of an input fed by Image Texture -> Separate Color (RGB), else None."""
     if not socket.is_linked:
         return None
@@ -90,9 +97,9 @@ def _texture_channel(socket):
         return None
     vector = texture.inputs["Vector"]
     if not vector.is_linked:
-        uv_map = ""
+        uv_map = default_uv_map
     elif vector.links[0].from_node.bl_idname == "ShaderNodeUVMap":
-        uv_map = vector.links[0].from_node.uv_map
+        uv_map = vector.links[0].from_node.uv_map or default_uv_map
     else:
         return None                                           # a mapping we cannot follow: the value counts
     return texture.image, SEPARATED[link.from_socket.name], uv_map

@@ -43,6 +43,10 @@ class Baked:
     target_uv: np.ndarray       # (t, 3, 2) the asked UV map at each triangle corner, or None
     on_base: bool               # the evaluated corners are the base mesh's (else the AO is through the stack)
 
+    def triangle_slot(self, slot_count):
+        """(t,) int: each triangle's material slot, clipped to ``slot_count`` slots (Blender's own rule)."""
+        return np.clip(self.material_index[self.mesh.triangle_face], 0, slot_count - 1)
+
 
 def _baked_inputs(ob, target=None):
     """:class:`Baked` of a baked object, as it renders; ``target``: a UV map of its own to read too."""
@@ -95,17 +99,17 @@ def material_values(ob, baked, target):
     texture channel)``.  A texture counts when it is read through the UV map ``target`` itself (the
     resampled image's texels then lie where its texels do); else the input's own value stands.
     """
-    render_active = next((uv.name for uv in ob.data.uv_layers if uv.active_render), "")
     slots = [getattr(slot, "material", None) for slot in ob.material_slots] or [None]
+    default_uv_map = render_active_uv(ob)
     values = np.zeros((len(slots), 2))
     sources, pixels, uses = [], {}, []
     for s, material in enumerate(slots):
-        for v, (value, texture) in enumerate(material_nodes.principled_values(material).values()):
+        for v, (value, texture) in enumerate(material_nodes.principled_values(material, default_uv_map).values()):
             values[s, v] = value
             if texture is None:
                 continue
             image, channel, uv_map = texture
-            if (uv_map or render_active) != target or min(image.size) < 1:
+            if uv_map != target or min(image.size) < 1:
                 continue
             if image.name not in pixels:
                 width, height = image.size
@@ -120,9 +124,8 @@ def material_values(ob, baked, target):
     per_slot[:, :2] = values
     for s, j in uses:
         per_slot[s, 2 + j] = 1.0
-    slot = np.clip(baked.material_index[baked.mesh.triangle_face], 0, len(slots) - 1)
     textures = [(v, pixels[name][:, :, channel]) for v, name, channel in sources]
-    return per_slot[slot], textures
+    return per_slot[baked.triangle_slot(len(slots))], textures
 
 
 def packed_values(channels, textures):
@@ -144,7 +147,7 @@ def node_inputs(ob, baked, use):
     if not use:
         return 1.0, 0.0
     per_slot = np.array([material_nodes.blend_inputs(slot.material) for slot in ob.material_slots] or [(1.0, 0.0)])
-    slot = np.clip(baked.material_index[baked.mesh.triangle_face], 0, len(per_slot) - 1)
+    slot = baked.triangle_slot(len(per_slot))
     return per_slot[slot, 0], per_slot[slot, 1]
 
 
@@ -152,6 +155,11 @@ def _loop_uv(mesh, name):
     uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
     mesh.uv_layers[name].data.foreach_get("uv", uv)
     return uv.reshape(-1, 2).astype(np.float64)
+
+
+def render_active_uv(ob):
+    """The name of ``ob``'s render-active UV map (what an Image Texture with no UV Map node reads), or ""."""
+    return next((uv.name for uv in ob.data.uv_layers if uv.active_render), "")
 
 
 def own_uv_map(ob, name=None):
@@ -218,8 +226,8 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
     for ob in objects:
         target = own_uv_map(ob, settings.uv_map or None)
         baked = _baked_inputs(ob, target)
-        fitness = uv_fitness(baked.target_uv, baked.mesh.triangle_area)
-        if not fitness.can_hold_ao and not settings.unfit_uv_map:
+        fitness = None if settings.unfit_uv_map else uv_fitness(baked.target_uv, baked.mesh.triangle_area)
+        if fitness is not None and not fitness.can_hold_ao:
             raise SeamlessAOError("'{}': its UV map '{}' cannot hold the AO: {}; pick another UV map, or resample "
                                   "anyway (Even If Unfit)".format(ob.name, target, "; ".join(fitness.problems())))
         grey = settings.packing in ("GLTF", "GREY")

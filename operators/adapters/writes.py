@@ -223,15 +223,14 @@ class Transaction:
 
 
 def store_float_image(name, values, marks=(OURS_KEY,), keep_undo=True):
-    """The image ``name`` holding ``values`` (height, width) as grey, or (height, width, 4) as RGBA: float,
-    Non-Color, packed into the .blend.
+    """The image ``name`` holding ``values`` (height, width) as grey: float, Non-Color, packed into the .blend.
 
     Made new (with the custom properties ``marks`` set), or, if Seamless AO
     made it, overwritten in place.  Returns ``(image, undo)``; ``undo()`` puts
     back what was there before (``None`` with ``keep_undo`` off: the old
     pixels are then not even read).
     """
-    height, width = values.shape[:2]
+    height, width = values.shape
     image = bpy.data.images.get(name)
     if image is not None and image.get(OURS_KEY):
         undo = _pixels_undo(image) if keep_undo else None
@@ -287,11 +286,8 @@ def _pixels_undo(image):
 
 
 def grey_pixels(values):
-    """Flat RGBA float32 pixels of ``values``: (height, width) as grey and opaque, or (height, width, 4) as is."""
-    values = np.asarray(values, dtype=np.float32)
-    if values.ndim == 3:
-        return values.ravel()
-    pixels = np.repeat(values.reshape(-1, 1), 4, axis=1)
+    """Flat RGBA float32 pixels of ``values`` (height, width): grey, opaque."""
+    pixels = np.repeat(np.asarray(values, dtype=np.float32).reshape(-1, 1), 4, axis=1)
     pixels[:, 3] = 1.0
     return pixels.ravel()
 

@@ -30,7 +30,7 @@ from ...core.errors import SeamlessAOError
 from ...core.keys import AO_LAYERS, AO_UV, COLOR_ATTRIBUTE, GLTF_NODES
 from ...core.settings import BakeSettings
 from ...shaders import material as material_nodes
-from ..adapters.exports import own_uv_map, resample, to_color_attribute, uv_map_fitness
+from ..adapters.exports import own_uv_map, render_active_uv, resample, to_color_attribute, uv_map_fitness
 from ..adapters.mesh_data import evaluated_mesh, render_evaluation
 from ..adapters.session import bake
 
@@ -171,12 +171,13 @@ def share_orm(ob, target):
     """With ORM packing, a material whose Roughness or Metallic comes from a texture on the AO's UV map reads
     both from the ORM image's G and B instead (which hold that texture's texels there), so the glTF carries
     one image as its occlusion and metallic-roughness texture.  Only the batch's loaded copy changes."""
-    render_active = next((uv.name for uv in ob.data.uv_layers if uv.active_render), "")
+    default_uv_map = render_active_uv(ob)
     for material in {slot.material for slot in ob.material_slots if slot.material is not None}:
         split = material.node_tree.nodes.get(GLTF_NODES[2])
-        principled = next((n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"), None)
-        textures = [texture for _, texture in material_nodes.principled_values(material).values() if texture]
-        if split is None or principled is None or not any((uv or render_active) == target for _, _, uv in textures):
+        principled = material_nodes.principled_bsdf(material)
+        textures = [texture for _, texture in material_nodes.principled_values(material, default_uv_map).values()
+                    if texture]
+        if split is None or principled is None or not any(uv_map == target for _, _, uv_map in textures):
             continue
         links = material.node_tree.links
         links.new(split.outputs["Green"], principled.inputs["Roughness"])
