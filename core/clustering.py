@@ -15,8 +15,9 @@ shared texels) are numbered ``0..5`` = +X, -X, +Y, -Y, +Z, -Z.
 
 The teapot problem (thesis §9): a chart can fold over itself in projection.
 :func:`make_injective` finds folds with :func:`.overlap.fold_conflicts` and
-splits the chart between two conflicting faces by breadth-first distance (a
-graph Voronoi split), until no chart has a conflict.
+parts every conflicting pair of faces at once (:mod:`.splitting`: a graph
+Voronoi split from the conflicting faces, its cells merged back where no
+conflict keeps them apart), until no chart has a conflict.
 """
 
 from dataclasses import dataclass
@@ -26,6 +27,7 @@ import numpy as np
 from .geometry2d import group_boxes
 from .graph import Adjacency, connected_components, scatter_rows
 from .overlap import FoldMemory, fold_conflicts, overwound_vertices
+from .splitting import part_conflicts
 
 #: (6, 3) unit vector of each signed axis.
 AXES = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64)
@@ -263,7 +265,6 @@ def make_injective(mesh, topology, charts, margin=0.0):
     chart_axis = charts.chart_axis.copy()
     triangle_scale = mesh.triangle_scale
     for axis in range(3):
-        round_number = 0
         dirty = None                     # charts to check; None = all of this axis
         # A split chart keeps its signed axis, so the projection is the same every round.
         first_group, uv, depth, slope = triangle_chart_geometry(mesh, charts, axis)
@@ -282,25 +283,9 @@ def make_injective(mesh, topology, charts, margin=0.0):
             pairs = pairs[mesh.triangle_face[pairs[:, 0]] != mesh.triangle_face[pairs[:, 1]]]
             if not len(pairs):
                 break
-            round_number += 1
-            # One conflicting pair per chart at first; if a chart keeps folding
-            # (a many-turn helix), split at more pairs per round.
-            per_chart = 1 if round_number <= 8 else 2 ** min(round_number - 8, 16)
-            pair_chart = group[pairs[:, 0]]
-            order = np.argsort(pair_chart, kind="stable")
-            pairs, pair_chart = pairs[order], pair_chart[order]
-            rank = np.arange(len(pairs)) - np.searchsorted(pair_chart, pair_chart)
-            chosen = pairs[rank < per_chart]
-            sources = np.unique(mesh.triangle_face[chosen].ravel())
-            labels = np.full(mesh.face_count, -1, dtype=np.int64)
-            labels[sources] = np.arange(len(sources))
-            on_axis = chart_of_face[:, axis]
-            adjacency.grow_labels(labels, lambda s, t: on_axis[s] == on_axis[t])
-            split = np.zeros(len(chart_axis), dtype=bool)
-            split[pair_chart] = True
-            split_faces = np.flatnonzero(split[np.maximum(on_axis, 0)] & (on_axis >= 0))
-            chart_of_face[:, axis], chart_axis = _split_charts(
-                on_axis, labels, chart_axis, topology.face_edges, split_faces)
+            # Two triangles' faces, each pair in one chart: every pair is parted at once.
+            chart_of_face[:, axis], chart_axis, split_faces = part_conflicts(
+                adjacency, topology.face_edges, chart_of_face[:, axis], chart_axis, mesh.triangle_face[pairs])
             dirty = np.zeros(len(chart_axis), dtype=bool)
             dirty[chart_of_face[split_faces, axis]] = True
     result = _renumber(Charts(chart_of_face, chart_axis, charts.dominant_axis))
@@ -355,36 +340,6 @@ def cut_long_charts(mesh, charts, max_length):
     if len(chart_axis) == len(charts.chart_axis):
         return charts
     return _renumber(Charts(chart_of_face, chart_axis, charts.dominant_axis, charts.splits))
-
-
-def _split_charts(on_axis, labels, chart_axis, edges, split_faces):
-    """Split some charts of one axis into connected pieces of one label each.
-
-    Parameters
-    ----------
-    on_axis : (f,) int64, chart of each face on this axis (-1: none)
-    labels : (f,) int64, the label each face grew
-    chart_axis : (c,) int64, signed axis of each chart
-    edges : (m, 2) int, face adjacency
-    split_faces : (k,) int, the faces of the charts being split
-
-    Returns
-    -------
-    on_axis : (f,) int64, with the split faces in new charts ``c ..`` (the old ids fall out of use)
-    chart_axis : (c + p,) int64
-    """
-    local = np.full(len(on_axis), -1, dtype=np.int64)
-    local[split_faces] = np.arange(len(split_faces))
-    a, b = local[edges[:, 0]], local[edges[:, 1]]
-    same = (a >= 0) & (b >= 0)
-    a, b = a[same], b[same]
-    faces_a, faces_b = split_faces[a], split_faces[b]
-    same = (on_axis[faces_a] == on_axis[faces_b]) & (labels[faces_a] == labels[faces_b])
-    component = connected_components(len(split_faces), np.stack([a[same], b[same]], axis=1))
-    new_on_axis = on_axis.copy()
-    new_on_axis[split_faces] = len(chart_axis) + component
-    first_face = split_faces[np.unique(component, return_index=True)[1]]
-    return new_on_axis, np.concatenate([chart_axis, chart_axis[on_axis[first_face]]])
 
 
 def _renumber(charts):

@@ -24,14 +24,15 @@ def candidate_pairs(uv, group, margin=0.0, query=None):
     group : (t,) int
         Chart of each triangle; ``-1`` triangles are left out.
     margin : float
-        Extra distance, in ``uv`` units.
+        Extra distance, in ``uv`` units: boxes closer than this along both
+        axes pair up.
     query : (t,) bool, optional
         Only pairs with at least one of these shapes (the grid cells no query
         shape touches are never paired up).
 
     Returns
     -------
-    (p, 2) int64 shape pairs, ``i < j``, each once.
+    (p, 2) int64 shape pairs, ``i < j``, each once, sorted.
     """
     live = np.flatnonzero(group >= 0)
     if len(live) < 2:
@@ -69,12 +70,23 @@ def candidate_pairs(uv, group, margin=0.0, query=None):
         (cell_x[1:] != cell_x[:-1]) | (cell_y[1:] != cell_y[:-1])
         | (group[live][entry[1:]] != group[live][entry[:-1]]))
     starts = np.concatenate((np.flatnonzero(key_change), [len(entry)]))
-    pairs = live[entry[pairs_within_groups(starts)]]
-    if not len(pairs):
-        return np.zeros((0, 2), dtype=np.int64)
+    here, there = pairs_within_groups(starts).T.copy()
+    i, j = entry[here], entry[there]
+    # Each pair once, from the one cell both boxes hold whose corner is the larger of their low corners
+    # (no sort to drop repeats), and only where the boxes themselves meet.  Columns, not rows: faster.
+    first_x, first_y = np.ascontiguousarray(first[:, 0]), np.ascontiguousarray(first[:, 1])
+    keep = cell_x[here] == np.maximum(first_x[i], first_x[j])
+    keep &= cell_y[here] == np.maximum(first_y[i], first_y[j])
+    for axis in (0, 1):
+        axis_low, axis_high = np.ascontiguousarray(low[:, axis]), np.ascontiguousarray(high[:, axis])
+        keep &= axis_low[i] <= axis_high[j]
+        keep &= axis_low[j] <= axis_high[i]
+    i, j = live[i[keep]], live[j[keep]]                  # i < j: a cell lists its shapes in order
     if query is not None:
-        pairs = pairs[query[pairs[:, 0]] | query[pairs[:, 1]]]
-    return unique_pairs(pairs)
+        asked = query[i] | query[j]
+        i, j = i[asked], j[asked]
+    order = np.argsort(i * len(group) + j, kind="stable")
+    return np.stack([i[order], j[order]], axis=1)
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
@@ -223,6 +235,38 @@ class FoldMemory:
         self.rounds = 0
 
 
+def _may_conflict(seg, seg_depth, pairs, seg_slope, touch, margin):
+    """The candidate pairs of boundary segments that can be a conflict of :func:`fold_conflicts`.
+
+    A conflict needs a depth gap at the closest points above what the slopes
+    explain over their distance, plus the margin unless the segments touch.
+    The gap is at most the spread of the two segments' depths, and the
+    distance at least the gap between their boxes, so pairs whose depth
+    spread is below that are no conflict (most pairs: neighbours along one
+    boundary).
+
+    Parameters
+    ----------
+    seg : (b, 2, 2) float64, seg_depth : (b, 2) float64, pairs : (p, 2) int, seg_slope : (b,) float64
+    touch : float, the largest contact distance; margin : float
+
+    Returns
+    -------
+    a, b : (k,) int64, the pairs kept
+    """
+    a, b = pairs[:, 0], pairs[:, 1]
+    x_low, x_high = seg[:, :, 0].min(axis=1), seg[:, :, 0].max(axis=1)
+    y_low, y_high = seg[:, :, 1].min(axis=1), seg[:, :, 1].max(axis=1)
+    box_gap = np.maximum(np.maximum(x_low[a] - x_high[b], x_low[b] - x_high[a]),
+                         np.maximum(y_low[a] - y_high[b], y_low[b] - y_high[a]))
+    box_gap = np.maximum(box_gap, 0.0)
+    d_low, d_high = seg_depth.min(axis=1), seg_depth.max(axis=1)
+    spread = np.maximum(d_high[a] - d_low[b], d_high[b] - d_low[a])
+    needed = box_gap * 2.0 * np.maximum(seg_slope[a], seg_slope[b]) + np.where(box_gap <= touch, 0.0, margin)
+    keep = spread > needed
+    return a[keep], b[keep]
+
+
 def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tolerance, touch, margin=0.0, slope=None,
                    fan_vertices=None, memory=None):
     """Triangle pairs that keep a chart from being injective, found from its boundary.
@@ -303,11 +347,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         boundary_hits = memory.conflicts[(group[a] >= 0) & (group[a] == group[b])]
     pairs = candidate_pairs(seg, group[b_tri], reach, query=fresh)
     if len(pairs):
-        # segments whose boxes are further apart than the reach cannot be closer
-        seg_low, seg_high = corner_min(seg), corner_max(seg)
-        a, b = pairs[:, 0], pairs[:, 1]
-        near = ((seg_low[a] - reach <= seg_high[b]) & (seg_low[b] - reach <= seg_high[a])).all(axis=1)
-        a, b = a[near], b[near]
+        a, b = _may_conflict(seg, seg_depth, pairs, slope[b_tri], float(touch[live].max()), margin)
         b_low, b_high = low[boundary], high[boundary]
         ends_a = np.stack([b_low[a], b_high[a]], 1)
         ends_b = np.stack([b_low[b], b_high[b]], 1)

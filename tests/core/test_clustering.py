@@ -237,3 +237,32 @@ def test_a_polygon_folded_over_itself_lays_out_instead_of_being_split_forever():
     mesh = TriangleMesh(positions, triangles, np.zeros(24, dtype=np.int64), normals, face_count=1)
     layout = build_layout(mesh, image_size=256)
     assert layout.charts.count >= 1 and len(layout.texels) > 0
+
+
+def test_parting_conflicts_keeps_every_pair_apart_in_as_few_connected_pieces_as_a_path_allows():
+    """part_conflicts on a chart that is a path of ten faces, with the pairs (0, 9) and (3, 6) to part: both
+    pairs end in different charts, each piece is connected, and the Voronoi cells merge back to two pieces
+    (0-4 and 5-9), not the four cells the four seeds grow."""
+    from seamless_ao.core.graph import Adjacency
+    from seamless_ao.core.splitting import part_conflicts
+    edges = np.stack([np.arange(9), np.arange(1, 10)], axis=1)
+    on_axis = np.zeros(10, dtype=np.int64)
+    on_axis, chart_axis, split_faces = part_conflicts(
+        Adjacency(10, edges), edges, on_axis, np.array([4]), np.array([[0, 9], [3, 6]]))
+    assert on_axis[0] != on_axis[9] and on_axis[3] != on_axis[6]
+    assert on_axis.tolist() == [1] * 5 + [2] * 5 and chart_axis.tolist() == [4, 4, 4]
+    assert split_faces.tolist() == list(range(10))
+
+
+def test_merging_cells_follows_the_links_in_order_and_never_joins_an_apart_pair():
+    from seamless_ao.core.splitting import merge_unless_apart
+    # a ring of six cells, 0 and 3 apart: the first links merge 0-1-2, then 2-3 is refused, 3-4-5 merge,
+    # and 5-0 is refused too (it would join 3 and 0 through the groups)
+    links = np.array([[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0]])
+    group = merge_unless_apart(6, links, np.array([[0, 3]]))
+    assert group.tolist() == [0, 0, 0, 1, 1, 1]
+    # the same ring tried from the other side first: 5-0 and 4-5 merge, 3-4 is refused
+    group = merge_unless_apart(6, links[::-1], np.array([[3, 0]]))
+    assert group[0] == group[5] == group[4] and group[3] != group[0]
+    nothing = np.zeros((0, 2), dtype=np.int64)
+    assert merge_unless_apart(3, nothing, nothing).tolist() == [0, 1, 2]
