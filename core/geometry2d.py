@@ -193,21 +193,25 @@ def triangle_score(triangle, point):
     inside); ``-inf`` where a one-texel square around the point misses the
     triangle (bilinear filtering inside the triangle never reads this texel).
     """
-    a, b, c = triangle[:, 0], triangle[:, 1], triangle[:, 2]
-    area2 = cross2d(b - a, c - a)
-    orientation = np.where(area2 < 0, -1.0, 1.0)
-    distances = []
-    for p, q in ((b, c), (c, a), (a, b)):              # edge opposite a, b, c
-        edge = q - p
-        length = np.linalg.norm(edge, axis=1)
-        signed = orientation * cross2d(edge, point - p) / np.where(length > 0, length, np.inf)
-        support = np.divide(np.abs(edge).sum(axis=1), length, out=np.full(len(length), np.inf), where=length > 0)
-        distances.append((signed, support))
-    inside = np.min([d for d, _ in distances], axis=0)
-    reach = np.all([d >= -s - 1e-9 for d, s in distances], axis=0)
-    low, high = corner_min(triangle), corner_max(triangle)
-    box = np.all((point >= low - 1.0 - 1e-9) & (point <= high + 1.0 + 1e-9), axis=1)
-    return np.where(reach & box, inside, -np.inf)
+    # on x and y columns: the same arithmetic as on (k, 2) rows, three times faster
+    x = [np.ascontiguousarray(triangle[:, i, 0]) for i in range(3)]
+    y = [np.ascontiguousarray(triangle[:, i, 1]) for i in range(3)]
+    px, py = point[:, 0], point[:, 1]
+    negative = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]) < 0
+    inside = np.full(len(triangle), np.inf)
+    reach = np.ones(len(triangle), dtype=bool)
+    for p, q in ((1, 2), (2, 0), (0, 1)):              # edge opposite a, b, c
+        ex, ey = x[q] - x[p], y[q] - y[p]
+        length = np.sqrt(ex * ex + ey * ey)
+        signed = (ex * (py - y[p]) - ey * (px - x[p])) / np.where(length > 0, length, np.inf)
+        signed = np.where(negative, -signed, signed)
+        support = np.divide(np.abs(ex) + np.abs(ey), length, out=np.full(len(length), np.inf), where=length > 0)
+        inside = np.minimum(inside, signed)
+        reach &= signed >= -support - 1e-9
+    for column, coordinate in ((x, px), (y, py)):
+        reach &= coordinate >= np.minimum(np.minimum(column[0], column[1]), column[2]) - 1.0 - 1e-9
+        reach &= coordinate <= np.maximum(np.maximum(column[0], column[1]), column[2]) + 1.0 + 1e-9
+    return np.where(reach, inside, -np.inf)
 
 
 def point_keys(points):
