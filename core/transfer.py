@@ -124,6 +124,11 @@ PACKINGS = {
 PNG_CHANNELS = {"GLTF": 3, "GREY": 1, "ORM": 3, "UNITY_MASK": 4}
 
 
+def carries_material(packing):
+    """Whether ``packing`` (:data:`PACKINGS`) carries material values (roughness, metallic or smoothness)."""
+    return any(channel >= 0 for channel in PACKINGS[packing][1:])
+
+
 def pack_channels(ao, packing, roughness=None, metallic=None):
     """(h, w, 4) RGBA of the AO ``ao`` (h, w) packed as ``packing`` (:data:`PACKINGS`), with the material's
     ``roughness`` and ``metallic`` (h, w) where the packing carries them (0.5 and 0 when not given)."""
@@ -132,7 +137,7 @@ def pack_channels(ao, packing, roughness=None, metallic=None):
     metallic = np.zeros_like(ao) if metallic is None else np.asarray(metallic, dtype=np.float32)
     occlusion, rough, metal, smooth = PACKINGS[packing]
     rgba = np.ones(ao.shape + (4,), dtype=np.float32)
-    if packing in ("GLTF", "GREY"):
+    if not carries_material(packing):
         rgba[:, :, :3] = ao[:, :, None]
         return rgba
     if packing == "UNITY_MASK":

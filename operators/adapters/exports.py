@@ -20,8 +20,8 @@ from ...core.keys import (AO_LAYERS, BLEND, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_K
 from ...core.mesh import TriangleMesh
 from ...core.settings import ExportSettings
 from ...core.png import encode_png
-from ...core.transfer import (PNG_CHANNELS, corner_values, pack_channels, resample_to_uv, sample_repeat, texel_uv,
-                              vertex_average)
+from ...core.transfer import (PNG_CHANNELS, carries_material, corner_values, pack_channels, resample_to_uv,
+                              sample_repeat, texel_uv, vertex_average)
 from ...core.uv_fitness import uv_fitness
 from ...shaders import material as material_nodes
 from . import stack
@@ -230,8 +230,8 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
         if fitness is not None and not fitness.can_hold_ao:
             raise SeamlessAOError("'{}': its UV map '{}' cannot hold the AO: {}; pick another UV map, or resample "
                                   "anyway (Even If Unfit)".format(ob.name, target, "; ".join(fitness.problems())))
-        grey = settings.packing in ("GLTF", "GREY")
-        carried, textures = (None, []) if grey else material_values(ob, baked, target)
+        carried, textures = (material_values(ob, baked, target) if carries_material(settings.packing)
+                             else (None, []))
         laid = resample_to_uv(baked.ao_image, baked.layer_uv, baked.mesh.corner_normals, baked.target_uv,
                               settings.size, settings.padding, baked.mesh.degenerate,
                               *node_inputs(ob, baked, settings.material_strength), per_triangle=carried)
