@@ -25,7 +25,7 @@ from ...core.transfer import (PNG_CHANNELS, carries_material, corner_values, pac
 from ...core.uv_fitness import uv_fitness
 from ...shaders import material as material_nodes
 from . import stack
-from .mesh_data import Topology, evaluated_mesh, read_triangles, render_evaluation
+from .mesh_data import Topology, evaluated_mesh, read_triangles, read_uv, render_evaluation
 from .writes import store_png_image
 
 DEFAULTS = ExportSettings()
@@ -152,9 +152,7 @@ def node_inputs(ob, baked, use):
 
 
 def _loop_uv(mesh, name):
-    uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
-    mesh.uv_layers[name].data.foreach_get("uv", uv)
-    return uv.reshape(-1, 2).astype(np.float64)
+    return read_uv(mesh, name).astype(np.float64)
 
 
 def render_active_uv(ob):

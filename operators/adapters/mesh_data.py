@@ -41,13 +41,47 @@ def _copy(mesh, attribute, key, elements, name, out):
     return out
 
 
-def triangle_arrays(mesh):
-    """Vertex positions (v, 3) float64 and Blender's triangulation (t, 3) int64 of a ``bpy.types.Mesh``."""
+def read_uv(mesh, name):
+    """(l, 2) float32 UVs of the UV map ``name`` of a ``bpy.types.Mesh``, one per loop."""
+    uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+    _copy(mesh, name, "vector", mesh.uv_layers[name].data, "uv", uv)
+    return uv.reshape(-1, 2)
+
+
+def write_uv(mesh, name, uv):
+    """Set the UV map ``name`` (it exists) of a ``bpy.types.Mesh`` to ``uv`` (l, 2): through its attribute, in
+    one copy (its ``uv`` property goes loop by loop: 23 ms per 280k loops, against under 1 ms)."""
+    uv = np.ascontiguousarray(uv, dtype=np.float32).ravel()
+    if name in mesh.attributes:
+        mesh.attributes[name].data.foreach_set("vector", uv)
+    else:
+        mesh.uv_layers[name].data.foreach_set("uv", uv)
+
+
+def triangle_loops(mesh):
+    """(t, 3) int64 loop (face corner) of each corner of Blender's triangulation of a ``bpy.types.Mesh``."""
     mesh.calc_loop_triangles()
+    loops = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    return loops.reshape(-1, 3).astype(np.int64)
+
+
+def triangle_arrays(mesh, loops=None):
+    """Vertex positions (v, 3) float64 and Blender's triangulation (t, 3) int64 of a ``bpy.types.Mesh``
+    (``loops``: its :func:`triangle_loops`, when the caller has them)."""
+    loops = triangle_loops(mesh) if loops is None else loops
     positions = vertex_positions(mesh)
-    triangles = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
-    mesh.loop_triangles.foreach_get("vertices", triangles)
-    return positions.reshape(-1, 3).astype(np.float64), triangles.reshape(-1, 3).astype(np.int64)
+    return positions.reshape(-1, 3).astype(np.float64), loop_vertices(mesh).astype(np.int64)[loops]
+
+
+def triangle_polygons(mesh, count):
+    """(t,) int32 polygon of each of the ``count`` triangles of Blender's triangulation."""
+    polygon = np.empty(count, dtype=np.int32)
+    if hasattr(mesh, "loop_triangle_polygons"):       # one copy; loop_triangles' polygon_index goes one by one
+        mesh.loop_triangle_polygons.foreach_get("value", polygon)
+    else:
+        mesh.loop_triangles.foreach_get("polygon_index", polygon)
+    return polygon
 
 
 def read_triangles(mesh):
@@ -62,20 +96,16 @@ def read_triangles(mesh):
     triangle_loops : (t, 3) int64
         Loop (face corner) index of each triangle corner, to write UVs back.
     """
-    positions, triangles = triangle_arrays(mesh)
+    loops = triangle_loops(mesh)
+    positions, triangles = triangle_arrays(mesh, loops)
     count = len(triangles)
-    loops = np.empty(count * 3, dtype=np.int32)
-    mesh.loop_triangles.foreach_get("loops", loops)
-    polygon = np.empty(count, dtype=np.int32)
-    mesh.loop_triangles.foreach_get("polygon_index", polygon)
     corner_normals = np.empty(len(mesh.loops) * 3, dtype=np.float32)
     if len(mesh.loops):
         mesh.corner_normals.foreach_get("vector", corner_normals)
-    loops = loops.reshape(-1, 3).astype(np.int64)
     triangle_mesh = TriangleMesh(
         positions,
         triangles,
-        polygon,
+        triangle_polygons(mesh, count),
         corner_normals.reshape(-1, 3)[loops] if count else np.zeros((0, 3, 3)),
         face_count=len(mesh.polygons),
     )

@@ -19,6 +19,7 @@ import numpy as np
 
 from ...core.keys import (AO_LAYERS, HELPER_KEY, HELPER_PREFIX, STACK_GROUP, STACK_MODIFIER, STACK_VERSION,
                           STACK_VERSION_KEY, STALE_ATTRIBUTE)
+from .mesh_data import write_uv
 
 
 def find_stack_group():
@@ -121,7 +122,8 @@ def helper_mesh(name, topology, layer_uv_per_corner):
     mesh.polygons.foreach_set("loop_start", topology.loop_start)
     mesh.update(calc_edges=True)
     for layer, uv in zip(AO_LAYERS, layer_uv_per_corner):
-        mesh.uv_layers.new(name=layer, do_init=False).data.foreach_set("uv", uv.astype(np.float32).ravel())
+        mesh.uv_layers.new(name=layer, do_init=False)
+        write_uv(mesh, layer, uv)
     return mesh
 
 

@@ -18,6 +18,7 @@ from ...core.png import encode_png
 from ...shaders import material as material_nodes
 from ...shaders.node_group import find_node_group, node_group as build_node_group
 from . import stack
+from .mesh_data import read_uv, write_uv
 
 
 class Transaction:
@@ -122,10 +123,8 @@ class Transaction:
                 layer = layers.new(name=name, do_init=False)
                 self.undo.append(lambda mesh=mesh, name=name: mesh.uv_layers.remove(mesh.uv_layers[name]))
             else:
-                old = np.empty(len(mesh.loops) * 2, dtype=np.float32)
-                layer.data.foreach_get("uv", old)
-                self.undo.append(lambda mesh=mesh, name=name, old=old: mesh.uv_layers[name].data.foreach_set("uv", old))
-            layer.data.foreach_set("uv", uv.ravel())
+                self.undo.append(lambda mesh=mesh, name=name, old=read_uv(mesh, name): write_uv(mesh, name, old))
+            write_uv(mesh, name, uv)
         self.undo.append(lambda mesh=mesh, active=active, render=render: _restore_active(mesh, active, render))
         _restore_active(mesh, active, render)
 
