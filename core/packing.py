@@ -87,13 +87,9 @@ def effective_padding(extent, density, padding):
 def density_filling(extent, padding, texels, low, high):
     """Density in ``[low, high]`` whose footprint (:func:`footprint_texels`) is about ``texels``.
 
-    The footprint grows with the density, so a bisection (in log density)
-    finds it, to 0.01% (a first guess for the search; a whole-texel change
-    of one chart moves the footprint more).
+    The footprint grows with the density, so a bisection (in log density) finds it.
     """
     for _ in range(40):
-        if high <= low * (1.0 + 1e-4):
-            break
         mid = np.sqrt(low * high)
         low, high = (mid, high) if footprint_texels(extent, mid, padding) <= texels else (low, mid)
     return low
