@@ -255,12 +255,11 @@ def _may_conflict(seg, seg_depth, pairs, seg_slope, touch, margin):
     a, b : (k,) int64, the pairs kept
     """
     a, b = pairs[:, 0], pairs[:, 1]
-    x_low, x_high = seg[:, :, 0].min(axis=1), seg[:, :, 0].max(axis=1)
-    y_low, y_high = seg[:, :, 1].min(axis=1), seg[:, :, 1].max(axis=1)
+    (x_low, y_low), (x_high, y_high) = corner_min(seg).T, corner_max(seg).T
     box_gap = np.maximum(np.maximum(x_low[a] - x_high[b], x_low[b] - x_high[a]),
                          np.maximum(y_low[a] - y_high[b], y_low[b] - y_high[a]))
     box_gap = np.maximum(box_gap, 0.0)
-    d_low, d_high = seg_depth.min(axis=1), seg_depth.max(axis=1)
+    d_low, d_high = corner_min(seg_depth), corner_max(seg_depth)
     spread = np.maximum(d_high[a] - d_low[b], d_high[b] - d_low[a])
     needed = box_gap * 2.0 * np.maximum(seg_slope[a], seg_slope[b]) + np.where(box_gap <= touch, 0.0, margin)
     keep = spread > needed
