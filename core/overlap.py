@@ -235,6 +235,35 @@ class FoldMemory:
         self.rounds = 0
 
 
+def _unless_flat(seg_group, seg_depth, tolerance):
+    """``seg_group`` with ``-1`` for the segments of groups whose depths all lie within the least tolerance.
+
+    Parameters
+    ----------
+    seg_group : (b,) int >= 0, seg_depth : (b, 2) float64, tolerance : (b,) float64
+
+    Returns
+    -------
+    (b,) int64.  A depth gap between two points of such a group, interpolated
+    along its segments, never exceeds the spread of their ends (a relative
+    1e-12 allows for rounding), so it cannot exceed any tolerance of the group.
+    """
+    seg_group = np.asarray(seg_group, dtype=np.int64)
+    if not len(seg_group):
+        return seg_group
+    count = int(seg_group.max()) + 1
+    low = np.full(count, np.inf)
+    high = np.full(count, -np.inf)
+    least = np.full(count, np.inf)
+    np.minimum.at(low, seg_group, seg_depth.min(axis=1))
+    np.maximum.at(high, seg_group, seg_depth.max(axis=1))
+    np.minimum.at(least, seg_group, tolerance)
+    held = np.isfinite(low)                              # groups with a segment
+    flat = np.zeros(count, dtype=bool)
+    flat[held] = (high - low)[held] + 1e-12 * np.maximum(np.abs(high), np.abs(low))[held] < least[held]
+    return np.where(flat[seg_group], -1, seg_group)
+
+
 def _may_conflict(seg, seg_depth, pairs, seg_slope, touch, margin):
     """The candidate pairs of boundary segments that can be a conflict of :func:`fold_conflicts`.
 
@@ -344,7 +373,10 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         fresh = ~memory.boundary_side[b_tri, b_corner]
         a, b = memory.conflicts[:, 0], memory.conflicts[:, 1]
         boundary_hits = memory.conflicts[(group[a] >= 0) & (group[a] == group[b])]
-    pairs = candidate_pairs(seg, group[b_tri], reach, query=fresh)
+    # Every boundary conflict needs a depth gap above the tolerance: a chart whose boundary is flatter than
+    # that (a face of a box, a wall) has none, and its sides need no pairing up.
+    pairs = candidate_pairs(seg, _unless_flat(group[b_tri], seg_depth, depth_tolerance[b_tri]), reach,
+                            query=fresh)
     if len(pairs):
         a, b = _may_conflict(seg, seg_depth, pairs, slope[b_tri], float(touch[live].max()), margin)
         b_low, b_high = low[boundary], high[boundary]

@@ -12,7 +12,7 @@ from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.graph import sort_order
-from seamless_ao.core.overlap import candidate_pairs, segment_distance
+from seamless_ao.core.overlap import _unless_flat, candidate_pairs, segment_distance
 from seamless_ao.core.png import encode_png
 from seamless_ao.core.rays import AOParams, ao_params
 from seamless_ao.core.settings import BakeSettings, ExportSettings
@@ -182,6 +182,17 @@ def test_candidate_pairs_with_a_query_are_the_pairs_that_touch_it():
     some = candidate_pairs(segments, group, 0.5, query=query)
     expected = every[query[every[:, 0]] | query[every[:, 1]]]
     assert len(expected) > 20 and np.array_equal(some, expected)
+
+
+def test_unless_flat_drops_only_groups_whose_depth_spread_is_under_every_tolerance():
+    group = np.array([0, 0, 2, 2, 3, 3, 5])
+    depth = np.array([[1.0, 1.0], [1.0, 1.0 + 1e-12],          # 0: flat
+                      [1.0, 1.0], [1.0, 1.0 + 2e-9],           # 2: one segment's tolerance is below its spread
+                      [5.0, 5.0], [5.0, 5.0 + 5e-10],          # 3: flat
+                      [2.0, 3.0]])                             # 5: alone, but sloped
+    tolerance = np.array([1e-9, 1e-9, 1e-9, 1e-10, 1e-9, 1e-9, 1e-9])
+    assert _unless_flat(group, depth, tolerance).tolist() == [-1, -1, 2, 2, -1, -1, 5]
+    assert _unless_flat(np.zeros(0, dtype=np.int64), np.zeros((0, 2)), np.zeros(0)).shape == (0,)
 
 
 @pytest.mark.parametrize("spans", [(7, 300, 5), (2**40, 2**30, 3)], ids=["folded", "too-wide-to-fold"])
