@@ -93,7 +93,9 @@ def rasterise(atlas, mesh, padding=4):
     fixed_member = atlas.chart_texel_member[fixed][first]
     # a corner is one point of one chart: (chart, vertex), numbered densely
     corner = atlas.member_chart[live, None] * np.int64(len(mesh.positions)) + mesh.triangles[atlas.member_triangle[live]]
-    rim = rim_triangles(np.unique(corner, return_inverse=True)[1].reshape(-1, 3))
+    if corner.size and float(corner.max()) + 1.0 >= 2.0**31:     # rim_triangles sorts pairs of keys: keep them small
+        corner = np.unique(corner, return_inverse=True)[1].reshape(-1, 3)
+    rim = rim_triangles(corner)
     return rasterise_triangles(atlas.member_uv, live, atlas.width, atlas.height, padding,
                                fixed_texel=fixed_texel, fixed_member=fixed_member, rim=rim)
 
