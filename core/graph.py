@@ -39,9 +39,9 @@ def connected_components(count, edges):
         # ``high`` is a root: hook it under the smallest root it touches.
         np.minimum.at(parent, high, low)
         parent = _compress(parent)
-    # Every node now points at its root, the smallest node of its component.
-    _, labels = np.unique(parent, return_inverse=True)
-    return labels.reshape(-1)
+    # Every node now points at its root, the smallest node of its component: number the roots in order.
+    is_root = parent == np.arange(count)
+    return (np.cumsum(is_root) - 1)[parent]
 
 
 def _compress(parent):
