@@ -53,18 +53,25 @@ def chart_kinds(extent, has_live, density):
     return kind
 
 
-def footprint_texels(extent, density, padding, has_live=None):
-    """Texels the charts of ``extent`` (c, 2) object units take at ``density``, as boxes.
+def chart_footprints(extent, density, padding, has_live=None):
+    """(c,) float64: texels each chart of ``extent`` (c, 2) object units takes at ``density``, as a box.
 
     Points take one texel, small charts ``(w + 2) * (h + 2)`` (whole-texel
     ``w, h`` and the filtering ring), large ones ``(w + 2 + p) * (h + 2 + p)``
-    with the padding ``p`` they share with their neighbours.
+    with the padding ``p`` they share with their neighbours.  Each is a whole
+    number that never shrinks as the density grows.
     """
     has_live = np.ones(len(extent), dtype=bool) if has_live is None else has_live
     kind = chart_kinds(extent, has_live, density)
     size = np.maximum(np.ceil(extent * density - 1e-9), 1.0) + 2
     size[kind == 2] += padding
-    return float(np.prod(size[kind > 0], axis=1).sum() + (kind == 0).sum())
+    return np.where(kind > 0, size[:, 0] * size[:, 1], 1.0)
+
+
+def footprint_texels(extent, density, padding, has_live=None):
+    """Texels the charts of ``extent`` (c, 2) object units take at ``density``: the sum of
+    :func:`chart_footprints` (whole numbers, so the sum is exact in any order)."""
+    return float(chart_footprints(extent, density, padding, has_live).sum())
 
 
 def effective_padding(extent, density, padding):
@@ -87,11 +94,28 @@ def effective_padding(extent, density, padding):
 def density_filling(extent, padding, texels, low, high):
     """Density in ``[low, high]`` whose footprint (:func:`footprint_texels`) is about ``texels``.
 
-    The footprint grows with the density, so a bisection (in log density) finds it.
+    The footprint grows with the density, so a bisection (in log density, 40
+    halvings) finds it.  Each chart's footprint grows too, so a chart whose
+    footprint is the same at both ends of the bracket keeps it inside: only
+    the others are evaluated again, and after a few halvings they are a
+    handful.  The sums are whole numbers, so every comparison, and the
+    result, is the same as summing all charts at every step.
     """
+    extent = np.asarray(extent, dtype=np.float64).reshape(-1, 2)
+    at_low = chart_footprints(extent, low, padding)
+    at_high = chart_footprints(extent, high, padding)
+    settled = 0.0
     for _ in range(40):
+        changing = at_low != at_high
+        if not changing.all():
+            settled += float(at_low[~changing].sum())
+            extent, at_low, at_high = extent[changing], at_low[changing], at_high[changing]
         mid = np.sqrt(low * high)
-        low, high = (mid, high) if footprint_texels(extent, mid, padding) <= texels else (low, mid)
+        at_mid = chart_footprints(extent, mid, padding)
+        if settled + float(at_mid.sum()) <= texels:
+            low, at_low = mid, at_mid
+        else:
+            high, at_high = mid, at_mid
     return low
 
 

@@ -13,6 +13,7 @@ from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.graph import sort_order
 from seamless_ao.core.overlap import _unless_flat, candidate_pairs, segment_distance
+from seamless_ao.core.packing import SMALL_TEXELS, density_filling
 from seamless_ao.core.png import encode_png
 from seamless_ao.core.rays import AOParams, ao_params
 from seamless_ao.core.settings import BakeSettings, ExportSettings
@@ -193,6 +194,33 @@ def test_unless_flat_drops_only_groups_whose_depth_spread_is_under_every_toleran
     tolerance = np.array([1e-9, 1e-9, 1e-9, 1e-10, 1e-9, 1e-9, 1e-9])
     assert _unless_flat(group, depth, tolerance).tolist() == [-1, -1, 2, 2, -1, -1, 5]
     assert _unless_flat(np.zeros(0, dtype=np.int64), np.zeros((0, 2)), np.zeros(0)).shape == (0,)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_density_filling_is_the_plain_bisection_over_every_chart(seed):
+    rng = np.random.default_rng(seed)
+    extent = np.exp(rng.uniform(-4, 1, (3000, 2)))                 # points, small and large charts at once
+    extent[:20] = extent[:1]                                        # repeats share every step change
+
+    def footprint(density, padding):
+        """Boxes as the packing module's doc states them, written out chart by chart."""
+        total = 0.0
+        for width, height in extent * density:
+            if max(width, height) < 1.0:
+                total += 1.0
+                continue
+            w, h = max(np.ceil(width - 1e-9), 1.0) + 2, max(np.ceil(height - 1e-9), 1.0) + 2
+            if min(width, height) > SMALL_TEXELS:
+                w, h = w + padding, h + padding
+            total += w * h
+        return total
+
+    for padding, texels in ((2, 256.0**2), (4, 0.8 * 1024.0**2)):
+        low, high = 0.01, 4096.0
+        for _ in range(40):
+            mid = np.sqrt(low * high)
+            low, high = (mid, high) if footprint(mid, padding) <= texels else (low, mid)
+        assert density_filling(extent, padding, texels, 0.01, 4096.0) == low
 
 
 @pytest.mark.parametrize("spans", [(7, 300, 5), (2**40, 2**30, 3)], ids=["folded", "too-wide-to-fold"])
