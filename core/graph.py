@@ -169,17 +169,20 @@ class Adjacency:
         in hops; ties go to the smaller label.
         """
         frontier = np.flatnonzero(labels >= 0)
+        unset = np.iinfo(np.int64).max
+        nearest = np.full(len(labels), unset, dtype=np.int64)        # smallest label reaching each node
+        slot = np.zeros(len(labels), dtype=np.int64)
         while frontier.size:
             sources, targets = self.neighbours(frontier)
             keep = (labels[targets] < 0) & allowed(sources, targets)
-            sources, targets = sources[keep], targets[keep]
+            targets = targets[keep]
             if not targets.size:
                 break
-            order = sort_order(targets, labels[sources])
-            targets, sources = targets[order], sources[order]
-            first = group_starts(targets)[:-1]
-            labels[targets[first]] = labels[sources[first]]
-            frontier = targets[first]
+            np.minimum.at(nearest, targets, labels[sources[keep]])
+            labels[targets] = nearest[targets]
+            # each reached node once (whichever of its repeats wrote its slot last)
+            slot[targets] = np.arange(targets.size)
+            frontier = targets[slot[targets] == np.arange(targets.size)]
         return labels
 
 

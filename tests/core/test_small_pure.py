@@ -11,7 +11,7 @@ from seamless_ao.core.ao import settle_pilot
 from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
-from seamless_ao.core.graph import sort_order
+from seamless_ao.core.graph import Adjacency, sort_order
 from seamless_ao.core.overlap import _unless_flat, candidate_pairs, segment_distance
 from seamless_ao.core.packing import SMALL_TEXELS, density_filling
 from seamless_ao.core.png import encode_png
@@ -221,6 +221,39 @@ def test_density_filling_is_the_plain_bisection_over_every_chart(seed):
             mid = np.sqrt(low * high)
             low, high = (mid, high) if footprint(mid, padding) <= texels else (low, mid)
         assert density_filling(extent, padding, texels, 0.01, 4096.0) == low
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_grow_labels_gives_each_node_its_nearest_source_in_hops_ties_to_the_smaller_label(seed):
+    rng = np.random.default_rng(seed)
+    count = 400
+    edges = np.unique(np.sort(rng.integers(0, count, (900, 2)), axis=1), axis=0)
+    edges = edges[edges[:, 0] != edges[:, 1]]
+    side = rng.integers(0, 3, count)                          # labels cross only edges within one side
+    labels = np.full(count, -1, dtype=np.int64)
+    sources = rng.choice(count, 25, replace=False)
+    labels[sources] = rng.permutation(25)
+    grown = Adjacency(count, edges).grow_labels(labels.copy(), lambda s, t: side[s] == side[t])
+
+    # plain breadth-first search from every source alone, edge by edge
+    neighbours = [[] for _ in range(count)]
+    for a, b in edges:
+        if side[a] == side[b]:
+            neighbours[a].append(b)
+            neighbours[b].append(a)
+    best = [(np.inf, -1)] * count
+    for source in sources:
+        hops = {source: 0}
+        queue = [source]
+        for node in queue:
+            for other in neighbours[node]:
+                if other not in hops:
+                    hops[other] = hops[node] + 1
+                    queue.append(other)
+        for node, distance in hops.items():
+            best[node] = min(best[node], (distance, labels[source]))
+    assert grown.tolist() == [label for _, label in best]
+    assert (grown >= 0).sum() > 200                            # most nodes are reached
 
 
 @pytest.mark.parametrize("spans", [(7, 300, 5), (2**40, 2**30, 3)], ids=["folded", "too-wide-to-fold"])
