@@ -12,7 +12,7 @@ from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.graph import Adjacency, sort_order
-from seamless_ao.core.overlap import _unless_flat, candidate_pairs, segment_distance
+from seamless_ao.core.overlap import _unless_flat, _unless_quiet, candidate_pairs, segment_distance
 from seamless_ao.core.packing import SMALL_TEXELS, density_filling
 from seamless_ao.core.png import encode_png
 from seamless_ao.core.rays import AOParams, ao_params
@@ -254,6 +254,29 @@ def test_grow_labels_gives_each_node_its_nearest_source_in_hops_ties_to_the_smal
             best[node] = min(best[node], (distance, labels[source]))
     assert grown.tolist() == [label for _, label in best]
     assert (grown >= 0).sum() > 200                            # most nodes are reached
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_unless_quiet_keeps_both_sides_of_every_pair_spread_more_than_the_margin_in_depth(seed):
+    rng = np.random.default_rng(seed)
+    start = rng.uniform(0, 10, (600, 2))
+    seg = np.stack([start, start + rng.normal(0, 0.2, (600, 2))], axis=1)
+    # a gentle slope, with a few steps and spikes a margin or more deep
+    base = 0.05 * start[:, :1] + rng.normal(0, 0.01, (600, 1))
+    seg_depth = base + np.where(rng.random((600, 1)) < 0.05, rng.uniform(0.3, 1.0, (600, 1)), 0.0) + [0.0, 0.01]
+    seg_group = rng.integers(-1, 3, 600)
+    margin = 0.25
+    loud = _unless_quiet(seg, seg_depth, seg_group, margin)
+    assert np.array_equal(loud[loud >= 0], seg_group[loud >= 0]) and (loud[seg_group < 0] == -1).all()
+    low, high = seg.min(axis=1), seg.max(axis=1)
+    a, b = np.triu_indices(600, 1)
+    gap = np.maximum(low[a] - high[b], low[b] - high[a]).max(axis=1)
+    spread = np.maximum(seg_depth[a].max(axis=1) - seg_depth[b].min(axis=1),
+                        seg_depth[b].max(axis=1) - seg_depth[a].min(axis=1))
+    must = (gap <= margin) & (spread > margin) & (seg_group[a] == seg_group[b]) & (seg_group[a] >= 0)
+    assert must.sum() > 10
+    assert (loud[a[must]] >= 0).all() and (loud[b[must]] >= 0).all()
+    assert (loud == -1).sum() > (seg_group == -1).sum() + 100          # and it does leave most sides out
 
 
 @pytest.mark.parametrize("spans", [(7, 300, 5), (2**40, 2**30, 3)], ids=["folded", "too-wide-to-fold"])
