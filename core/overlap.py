@@ -2,91 +2,16 @@
 
 A chart is injective when no two of its triangles cover the same 2D point
 (shared edges and vertices excepted).  Candidates come from a uniform grid
-(each triangle is listed in the cells its box touches), so the cost is
-O(n log n) for any mesh whose triangles are not wildly different in size,
-never O(n²).
+(:mod:`.candidates`), so the cost is O(n log n) for any mesh whose triangles
+are not wildly different in size, never O(n²).
 """
 
 import numpy as np
 
+from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
 from .geometry2d import (barycentric_2d, corner_max, corner_min, line_crossing, segment_distance, separated,
                          triangle_angles)
-from .graph import index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
-
-
-def candidate_pairs(uv, group, margin=0.0, query=None):
-    """Pairs of shapes of the same group whose 2D boxes come within ``margin``.
-
-    Parameters
-    ----------
-    uv : (t, c, 2) float64
-        Projected corners of each shape (triangles: c = 3, segments: c = 2).
-    group : (t,) int
-        Chart of each triangle; ``-1`` triangles are left out.
-    margin : float
-        Extra distance, in ``uv`` units: boxes closer than this along both
-        axes pair up.
-    query : (t,) bool, optional
-        Only pairs with at least one of these shapes (the grid cells no query
-        shape touches are never paired up).
-
-    Returns
-    -------
-    (p, 2) int64 shape pairs, ``i < j``, each once, sorted.
-    """
-    live = np.flatnonzero(group >= 0)
-    if len(live) < 2:
-        return np.zeros((0, 2), dtype=np.int64)
-    low = corner_min(uv[live]) - 0.5 * margin
-    high = corner_max(uv[live]) + 0.5 * margin
-    extent = high - low
-    # Cells about the size of a typical triangle, but never so small that the
-    # few huge triangles of a mixed mesh fill millions of cells.
-    cell = max(
-        float(np.median(extent.max(axis=1))),
-        float(np.sqrt((extent[:, 0] * extent[:, 1]).sum() / (4.0 * len(live)))),
-        1e-300,
-    )
-    origin = low.min(axis=0)
-    first = np.floor((low - origin) / cell).astype(np.int64)
-    last = np.floor((high - origin) / cell).astype(np.int64)
-    span = last - first + 1
-    count = span[:, 0] * span[:, 1]
-    entry = np.repeat(np.arange(len(live), dtype=np.int64), count)
-    local = index_in_runs(count)
-    cell_x = first[entry, 0] + local % span[entry, 0]
-    cell_y = first[entry, 1] + local // span[entry, 0]
-    if query is not None:
-        # only the cells a query shape touches (one int64 key per group and cell)
-        span_x = int(last[:, 0].max()) + 1
-        span_y = int(last[:, 1].max()) + 1
-        key = (group[live][entry] * span_y + cell_y) * span_x + cell_x
-        touched = np.isin(key, key[query[live][entry]])
-        entry, cell_x, cell_y = entry[touched], cell_x[touched], cell_y[touched]
-    order = sort_order(group[live][entry], cell_x, cell_y)
-    entry, cell_x, cell_y = entry[order], cell_x[order], cell_y[order]
-    key_change = np.ones(len(entry), dtype=bool)
-    key_change[1:] = (
-        (cell_x[1:] != cell_x[:-1]) | (cell_y[1:] != cell_y[:-1])
-        | (group[live][entry[1:]] != group[live][entry[:-1]]))
-    starts = np.concatenate((np.flatnonzero(key_change), [len(entry)]))
-    here, there = pairs_within_groups(starts).T.copy()
-    i, j = entry[here], entry[there]
-    # Each pair once, from the one cell both boxes hold whose corner is the larger of their low corners
-    # (no sort to drop repeats), and only where the boxes themselves meet.  Columns, not rows: faster.
-    first_x, first_y = np.ascontiguousarray(first[:, 0]), np.ascontiguousarray(first[:, 1])
-    keep = cell_x[here] == np.maximum(first_x[i], first_x[j])
-    keep &= cell_y[here] == np.maximum(first_y[i], first_y[j])
-    for axis in (0, 1):
-        axis_low, axis_high = np.ascontiguousarray(low[:, axis]), np.ascontiguousarray(high[:, axis])
-        keep &= axis_low[i] <= axis_high[j]
-        keep &= axis_low[j] <= axis_high[i]
-    i, j = live[i[keep]], live[j[keep]]                  # i < j: a cell lists its shapes in order
-    if query is not None:
-        asked = query[i] | query[j]
-        i, j = i[asked], j[asked]
-    order = np.argsort(i * len(group) + j, kind="stable")
-    return np.stack([i[order], j[order]], axis=1)
+from .graph import sort_order, unique_pairs, unique_rows
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
@@ -235,123 +160,6 @@ class FoldMemory:
         self.rounds = 0
 
 
-def _unless_flat(seg_group, seg_depth, tolerance):
-    """``seg_group`` with ``-1`` for the segments of groups whose depths all lie within the least tolerance.
-
-    Parameters
-    ----------
-    seg_group : (b,) int >= 0, seg_depth : (b, 2) float64, tolerance : (b,) float64
-
-    Returns
-    -------
-    (b,) int64.  A depth gap between two points of such a group, interpolated
-    along its segments, never exceeds the spread of their ends (a relative
-    1e-12 allows for rounding), so it cannot exceed any tolerance of the group.
-    """
-    seg_group = np.asarray(seg_group, dtype=np.int64)
-    if not len(seg_group):
-        return seg_group
-    count = int(seg_group.max()) + 1
-    low = np.full(count, np.inf)
-    high = np.full(count, -np.inf)
-    least = np.full(count, np.inf)
-    np.minimum.at(low, seg_group, seg_depth.min(axis=1))
-    np.maximum.at(high, seg_group, seg_depth.max(axis=1))
-    np.minimum.at(least, seg_group, tolerance)
-    held = np.isfinite(low)                              # groups with a segment
-    flat = np.zeros(count, dtype=bool)
-    flat[held] = (high - low)[held] + 1e-12 * np.maximum(np.abs(high), np.abs(low))[held] < least[held]
-    return np.where(flat[seg_group], -1, seg_group)
-
-
-def _unless_quiet(seg, seg_depth, seg_group, margin):
-    """``seg_group`` with ``-1`` for the segments that cannot be in a conflict across ``margin``.
-
-    Two segments within ``margin`` of each other (boxes, along both axes) hold
-    points in grid cells at most one apart, for cells at least ``margin``
-    wide; so their depth spread is at most the depth range of the 3 x 3
-    cells around a cell the first one touches.  A segment is quiet when that
-    range is at most ``margin`` around every cell it touches: no segment
-    within the margin is farther than that from it in depth, and a conflict
-    across the margin needs more (:func:`fold_conflicts`).
-
-    Parameters
-    ----------
-    seg : (b, 2, 2) float64, seg_depth : (b, 2) float64
-    seg_group : (b,) int64, ``-1`` for segments left out
-    margin : float > 0
-
-    Returns
-    -------
-    (b,) int64
-    """
-    live = np.flatnonzero(seg_group >= 0)
-    if not len(live):
-        return seg_group
-    low, high = corner_min(seg[live]), corner_max(seg[live])
-    # cells as large as candidate_pairs' (a typical segment with its margin), never smaller than the margin
-    cell = 1.001 * max(margin, float(np.median((high - low).max(axis=1))) + margin)
-    origin = low.min(axis=0) - cell                      # every cell has its neighbours at indices >= 0
-    first = np.floor((low - origin) / cell).astype(np.int64)
-    last = np.floor((high - origin) / cell).astype(np.int64)
-    span = last - first + 1
-    columns, rows = int(last[:, 0].max()) + 2, int(last[:, 1].max()) + 2
-    if float(seg_group.max() + 1) * columns * rows >= 2.0**62:
-        return seg_group
-    count = span[:, 0] * span[:, 1]
-    entry = np.repeat(np.arange(len(live), dtype=np.int64), count)
-    local = index_in_runs(count)
-    key = ((seg_group[live][entry] * rows + first[entry, 1] + local // span[entry, 0]) * columns
-           + first[entry, 0] + local % span[entry, 0])
-    cells, cell_of = np.unique(key, return_inverse=True)
-    cell_of = cell_of.reshape(-1)
-    shallow = np.full(len(cells), np.inf)
-    deep = np.full(len(cells), -np.inf)
-    np.minimum.at(shallow, cell_of, seg_depth[live].min(axis=1)[entry])
-    np.maximum.at(deep, cell_of, seg_depth[live].max(axis=1)[entry])
-    around_shallow, around_deep = shallow.copy(), deep.copy()
-    for step in (-columns - 1, -columns, -columns + 1, -1, 1, columns - 1, columns, columns + 1):
-        at = np.minimum(np.searchsorted(cells, cells + step), len(cells) - 1)
-        there = cells[at] == cells + step
-        around_shallow[there] = np.minimum(around_shallow[there], shallow[at[there]])
-        around_deep[there] = np.maximum(around_deep[there], deep[at[there]])
-    loud = np.bincount(entry, weights=(around_deep - around_shallow > margin)[cell_of], minlength=len(live)) > 0
-    result = seg_group.copy()
-    result[live[~loud]] = -1
-    return result
-
-
-def _may_conflict(seg, seg_depth, pairs, seg_slope, touch, margin):
-    """The candidate pairs of boundary segments that can be a conflict of :func:`fold_conflicts`.
-
-    A conflict needs a depth gap at the closest points above what the slopes
-    explain over their distance, plus the margin unless the segments touch.
-    The gap is at most the spread of the two segments' depths, and the
-    distance at least the gap between their boxes, so pairs whose depth
-    spread is below that are no conflict (most pairs: neighbours along one
-    boundary).
-
-    Parameters
-    ----------
-    seg : (b, 2, 2) float64, seg_depth : (b, 2) float64, pairs : (p, 2) int, seg_slope : (b,) float64
-    touch : float, the largest contact distance; margin : float
-
-    Returns
-    -------
-    a, b : (k,) int64, the pairs kept
-    """
-    a, b = pairs[:, 0], pairs[:, 1]
-    (x_low, y_low), (x_high, y_high) = corner_min(seg).T, corner_max(seg).T
-    box_gap = np.maximum(np.maximum(x_low[a] - x_high[b], x_low[b] - x_high[a]),
-                         np.maximum(y_low[a] - y_high[b], y_low[b] - y_high[a]))
-    box_gap = np.maximum(box_gap, 0.0)
-    d_low, d_high = corner_min(seg_depth), corner_max(seg_depth)
-    spread = np.maximum(d_high[a] - d_low[b], d_high[b] - d_low[a])
-    needed = box_gap * 2.0 * np.maximum(seg_slope[a], seg_slope[b]) + np.where(box_gap <= touch, 0.0, margin)
-    keep = spread > needed
-    return a[keep], b[keep]
-
-
 def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tolerance, touch, margin=0.0, slope=None,
                    fan_vertices=None, memory=None):
     """Triangle pairs that keep a chart from being injective, found from its boundary.
@@ -432,9 +240,9 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         boundary_hits = memory.conflicts[(group[a] >= 0) & (group[a] == group[b])]
     # Every boundary conflict needs a depth gap above the tolerance: a chart whose boundary is flatter than
     # that (a face of a box, a wall) has none, and its sides need no pairing up.
-    seg_group = _unless_flat(group[b_tri], seg_depth, depth_tolerance[b_tri])
+    seg_group = without_flat_groups(group[b_tri], seg_depth, depth_tolerance[b_tri])
     touch_most = float(touch[live].max())
-    loud_group = _unless_quiet(seg, seg_depth, seg_group, margin) if margin > 4.0 * touch_most else seg_group
+    loud_group = without_quiet_sides(seg, seg_depth, seg_group, margin) if margin > 4.0 * touch_most else seg_group
     if 2 * np.count_nonzero(loud_group >= 0) <= np.count_nonzero(seg_group >= 0):
         # Sides that touch, and sides within the margin where the depth varies by more than the margin
         # (a conflict there needs that much): the same pairs that can conflict, from far fewer candidates
@@ -444,7 +252,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     else:
         pairs = candidate_pairs(seg, seg_group, reach, query=fresh)
     if len(pairs):
-        a, b = _may_conflict(seg, seg_depth, pairs, slope[b_tri], float(touch[live].max()), margin)
+        a, b = may_conflict(seg, seg_depth, pairs, slope[b_tri], float(touch[live].max()), margin)
         b_low, b_high = low[boundary], high[boundary]
         ends_a = np.stack([b_low[a], b_high[a]], 1)
         ends_b = np.stack([b_low[b], b_high[b]], 1)

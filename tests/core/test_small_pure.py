@@ -12,7 +12,8 @@ from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.graph import Adjacency, sort_order
-from seamless_ao.core.overlap import _unless_flat, _unless_quiet, candidate_pairs, segment_distance
+from seamless_ao.core.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
+from seamless_ao.core.geometry2d import segment_distance
 from seamless_ao.core.packing import SMALL_TEXELS, density_filling
 from seamless_ao.core.png import encode_png
 from seamless_ao.core.rays import AOParams, ao_params
@@ -185,15 +186,15 @@ def test_candidate_pairs_with_a_query_are_the_pairs_that_touch_it():
     assert len(expected) > 20 and np.array_equal(some, expected)
 
 
-def test_unless_flat_drops_only_groups_whose_depth_spread_is_under_every_tolerance():
+def test_without_flat_groups_drops_only_groups_whose_depth_spread_is_under_every_tolerance():
     group = np.array([0, 0, 2, 2, 3, 3, 5])
     depth = np.array([[1.0, 1.0], [1.0, 1.0 + 1e-12],          # 0: flat
                       [1.0, 1.0], [1.0, 1.0 + 2e-9],           # 2: one segment's tolerance is below its spread
                       [5.0, 5.0], [5.0, 5.0 + 5e-10],          # 3: flat
                       [2.0, 3.0]])                             # 5: alone, but sloped
     tolerance = np.array([1e-9, 1e-9, 1e-9, 1e-10, 1e-9, 1e-9, 1e-9])
-    assert _unless_flat(group, depth, tolerance).tolist() == [-1, -1, 2, 2, -1, -1, 5]
-    assert _unless_flat(np.zeros(0, dtype=np.int64), np.zeros((0, 2)), np.zeros(0)).shape == (0,)
+    assert without_flat_groups(group, depth, tolerance).tolist() == [-1, -1, 2, 2, -1, -1, 5]
+    assert without_flat_groups(np.zeros(0, dtype=np.int64), np.zeros((0, 2)), np.zeros(0)).shape == (0,)
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -257,7 +258,7 @@ def test_grow_labels_gives_each_node_its_nearest_source_in_hops_ties_to_the_smal
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
-def test_unless_quiet_keeps_both_sides_of_every_pair_spread_more_than_the_margin_in_depth(seed):
+def test_without_quiet_sides_keeps_both_sides_of_every_pair_spread_more_than_the_margin_in_depth(seed):
     rng = np.random.default_rng(seed)
     start = rng.uniform(0, 10, (600, 2))
     seg = np.stack([start, start + rng.normal(0, 0.2, (600, 2))], axis=1)
@@ -266,7 +267,7 @@ def test_unless_quiet_keeps_both_sides_of_every_pair_spread_more_than_the_margin
     seg_depth = base + np.where(rng.random((600, 1)) < 0.05, rng.uniform(0.3, 1.0, (600, 1)), 0.0) + [0.0, 0.01]
     seg_group = rng.integers(-1, 3, 600)
     margin = 0.25
-    loud = _unless_quiet(seg, seg_depth, seg_group, margin)
+    loud = without_quiet_sides(seg, seg_depth, seg_group, margin)
     assert np.array_equal(loud[loud >= 0], seg_group[loud >= 0]) and (loud[seg_group < 0] == -1).all()
     low, high = seg.min(axis=1), seg.max(axis=1)
     a, b = np.triu_indices(600, 1)
