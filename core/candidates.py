@@ -12,6 +12,28 @@ from .geometry2d import corner_max, corner_min
 from .graph import index_in_runs, pairs_within_groups, sort_order
 
 
+def box_cells(low, high, origin, cell):
+    """The grid cells each 2D box touches, one entry per (box, cell).
+
+    Parameters
+    ----------
+    low, high : (n, 2) float64, box corners
+    origin : (2,) float64, the grid's corner; cell : float, its cell size
+
+    Returns
+    -------
+    first, last : (n, 2) int64, each box's lowest and highest cell
+    entry : (k,) int64, the box of each entry; cell_x, cell_y : (k,) int64, its cell
+    """
+    first = np.floor((low - origin) / cell).astype(np.int64)
+    last = np.floor((high - origin) / cell).astype(np.int64)
+    span = last - first + 1
+    count = span[:, 0] * span[:, 1]
+    entry = np.repeat(np.arange(len(low), dtype=np.int64), count)
+    local = index_in_runs(count)
+    return first, last, entry, first[entry, 0] + local % span[entry, 0], first[entry, 1] + local // span[entry, 0]
+
+
 def candidate_pairs(uv, group, margin=0.0, query=None):
     """Pairs of shapes of the same group whose 2D boxes come within ``margin``.
 
@@ -45,15 +67,7 @@ def candidate_pairs(uv, group, margin=0.0, query=None):
         float(np.sqrt((extent[:, 0] * extent[:, 1]).sum() / (4.0 * len(live)))),
         1e-300,
     )
-    origin = low.min(axis=0)
-    first = np.floor((low - origin) / cell).astype(np.int64)
-    last = np.floor((high - origin) / cell).astype(np.int64)
-    span = last - first + 1
-    count = span[:, 0] * span[:, 1]
-    entry = np.repeat(np.arange(len(live), dtype=np.int64), count)
-    local = index_in_runs(count)
-    cell_x = first[entry, 0] + local % span[entry, 0]
-    cell_y = first[entry, 1] + local // span[entry, 0]
+    first, last, entry, cell_x, cell_y = box_cells(low, high, low.min(axis=0), cell)
     if query is not None:
         # only the cells a query shape touches (one int64 key per group and cell)
         span_x = int(last[:, 0].max()) + 1
@@ -143,18 +157,12 @@ def without_quiet_sides(seg, seg_depth, seg_group, margin):
     low, high = corner_min(seg[live]), corner_max(seg[live])
     # cells as large as candidate_pairs' (a typical segment with its margin), never smaller than the margin
     cell = 1.001 * max(margin, float(np.median((high - low).max(axis=1))) + margin)
-    origin = low.min(axis=0) - cell                      # every cell has its neighbours at indices >= 0
-    first = np.floor((low - origin) / cell).astype(np.int64)
-    last = np.floor((high - origin) / cell).astype(np.int64)
-    span = last - first + 1
+    # every cell has its neighbours at indices >= 0
+    first, last, entry, cell_x, cell_y = box_cells(low, high, low.min(axis=0) - cell, cell)
     columns, rows = int(last[:, 0].max()) + 2, int(last[:, 1].max()) + 2
     if float(seg_group.max() + 1) * columns * rows >= 2.0**62:
         return seg_group
-    count = span[:, 0] * span[:, 1]
-    entry = np.repeat(np.arange(len(live), dtype=np.int64), count)
-    local = index_in_runs(count)
-    key = ((seg_group[live][entry] * rows + first[entry, 1] + local // span[entry, 0]) * columns
-           + first[entry, 0] + local % span[entry, 0])
+    key = (seg_group[live][entry] * rows + cell_y) * columns + cell_x
     cells, cell_of = np.unique(key, return_inverse=True)
     cell_of = cell_of.reshape(-1)
     shallow = np.full(len(cells), np.inf)

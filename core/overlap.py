@@ -231,7 +231,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     b_tri, b_corner = tri[boundary], corner[boundary]
     seg = np.stack([uv[b_tri, b_corner], uv[b_tri, (b_corner + 1) % 3]], axis=1)     # (b, 2, 2)
     seg_depth = np.stack([depth[b_tri, b_corner], depth[b_tri, (b_corner + 1) % 3]], axis=1)
-    reach = max(float(touch[live].max()), margin)
+    touch_most = float(touch[live].max())
     fresh = None                                 # sides not paired up in an earlier round (None: all)
     boundary_hits = np.zeros((0, 2), dtype=np.int64)
     if memory is not None and memory.rounds:
@@ -241,7 +241,6 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     # Every boundary conflict needs a depth gap above the tolerance: a chart whose boundary is flatter than
     # that (a face of a box, a wall) has none, and its sides need no pairing up.
     seg_group = without_flat_groups(group[b_tri], seg_depth, depth_tolerance[b_tri])
-    touch_most = float(touch[live].max())
     loud_group = without_quiet_sides(seg, seg_depth, seg_group, margin) if margin > 4.0 * touch_most else seg_group
     if 2 * np.count_nonzero(loud_group >= 0) <= np.count_nonzero(seg_group >= 0):
         # Sides that touch, and sides within the margin where the depth varies by more than the margin
@@ -250,9 +249,9 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         pairs = unique_rows(np.concatenate([candidate_pairs(seg, seg_group, 2.0 * touch_most, query=fresh),
                                             candidate_pairs(seg, loud_group, margin, query=fresh)]))
     else:
-        pairs = candidate_pairs(seg, seg_group, reach, query=fresh)
+        pairs = candidate_pairs(seg, seg_group, max(touch_most, margin), query=fresh)
     if len(pairs):
-        a, b = may_conflict(seg, seg_depth, pairs, slope[b_tri], float(touch[live].max()), margin)
+        a, b = may_conflict(seg, seg_depth, pairs, slope[b_tri], touch_most, margin)
         b_low, b_high = low[boundary], high[boundary]
         ends_a = np.stack([b_low[a], b_high[a]], 1)
         ends_b = np.stack([b_low[b], b_high[b]], 1)
