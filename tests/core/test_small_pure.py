@@ -13,7 +13,7 @@ from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.graph import Adjacency, sort_order
 from seamless_ao.core.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
-from seamless_ao.core.geometry2d import segment_distance
+from seamless_ao.core.geometry2d import segment_distance, triangle_angles
 from seamless_ao.core.packing import SMALL_TEXELS, density_filling
 from seamless_ao.core.png import encode_png
 from seamless_ao.core.rays import AOParams, ao_params
@@ -126,6 +126,21 @@ def test_segment_distance_of_collinear_segments_is_their_gap():
     cross, s, u = segment_distance(np.array([[0.0, 0.0]]), np.array([[2.0, 2.0]]),
                                    np.array([[0.0, 2.0]]), np.array([[2.0, 0.0]]))
     assert cross[0] < 1e-12 and abs(s[0] - 0.5) < 1e-12 and abs(u[0] - 0.5) < 1e-12
+
+
+def test_triangle_angles_are_the_law_of_cosines_angles_and_sum_to_pi():
+    rng = np.random.default_rng(4)
+    corners = rng.normal(0, 1, (2000, 3, 2)) * rng.uniform(1e-3, 1e3, (2000, 1, 1))
+    angles = triangle_angles(corners)
+    side = [np.linalg.norm(corners[:, (i + 2) % 3] - corners[:, (i + 1) % 3], axis=1) for i in range(3)]   # opposite i
+    for i in range(3):
+        b, c = side[(i + 1) % 3], side[(i + 2) % 3]
+        cosine = np.clip((b * b + c * c - side[i] * side[i]) / (2 * b * c), -1, 1)
+        assert np.allclose(angles[:, i], np.arccos(cosine), atol=1e-6)
+    assert np.allclose(angles.sum(axis=1), np.pi)
+    # both windings, and a right angle where the corners say so
+    square = triangle_angles(np.array([[[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]], [[0.0, 0.0], [0.0, 1.0], [2.0, 0.0]]]))
+    assert np.allclose(square[:, 0], np.pi / 2) and np.allclose(square[0, 1:], square[1, [2, 1]])
 
 
 def random_layout(rng, count, corners=3):
