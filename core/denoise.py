@@ -18,7 +18,7 @@ BAND_ROWS = 256
 
 
 def denoise(texels, atlas, mesh, values, computed, rays, radius=2, space_sigma=1.0, normal_power=16.0,
-            range_sigmas=2.5):
+            range_sigmas=2.5, geometry=None):
     """Filtered AO values.
 
     Parameters
@@ -33,6 +33,10 @@ def denoise(texels, atlas, mesh, values, computed, rays, radius=2, space_sigma=1
     space_sigma : float, Gaussian width of the 3D distance weight, in texels
     normal_power : float, exponent of the normal agreement (n_i . n_j)
     range_sigmas : float, value differences beyond this many noise sigmas do not blend
+    geometry : callable, optional
+        ``selection -> (points, normals, geometric)`` of ``computed`` texels (the bake's
+        :meth:`.targets.TexelTargets.geometry`, which may have them already); by default
+        :func:`.raster.texel_geometry`.
 
     Returns
     -------
@@ -50,7 +54,7 @@ def denoise(texels, atlas, mesh, values, computed, rays, radius=2, space_sigma=1
             continue
         top = max(0, band_start - radius)
         grid_rows = min(height, band_stop + radius) - top
-        points, normals, _ = texel_geometry(texels, atlas, mesh, halo)
+        points, normals, _ = (texel_geometry(texels, atlas, mesh, halo) if geometry is None else geometry(halo))
         grid_index = texels.index[halo] - top * width
         shape = (grid_rows + 2 * radius, width + 2 * radius)
 

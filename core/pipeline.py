@@ -114,7 +114,8 @@ class BakePipeline:
                 if self.occluders is not None and settings.use_scene_occluders:
                     near = (lambda low, high, reach, index=index: self.occluders(index, low, high, reach))
                 self.parts.append(ray_part(mesh, matrix, settings, self.make_caster, near))
-            job = AOJob(TexelTargets(layout), self.parts, weighted=settings.weighted_rays)
+            targets = TexelTargets(layout)
+            job = AOJob(targets, self.parts, weighted=settings.weighted_rays)
             while not job.finished:
                 fraction = job.step()
                 yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)
@@ -127,7 +128,8 @@ class BakePipeline:
             if settings.denoise:
                 yield 0.95, "Denoising"
                 start = time.perf_counter()
-                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, seen, job.ray_count)
+                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, seen, job.ray_count,
+                             geometry=targets.geometry)
                 layout.timings["denoise"] = time.perf_counter() - start
             self.result = BakeResult(
                 layout=layout, image=texel_image(layout.texels, ao, job.computed), texel_ao=ao,

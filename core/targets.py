@@ -13,6 +13,11 @@ import numpy as np
 from .grid import neighbour_values
 from .raster import texel_geometry
 
+#: Up to this many texels, their points and normals are computed once and kept for the bake (72 bytes
+#: each, 19 MB at most): the pilot, the remaining rays, the crease pass and the denoiser all read them.
+#: Above it each batch computes its own, so memory stays linear in the batch.
+GEOMETRY_CACHE_TEXELS = 1 << 18
+
 #: Rays of a texel seen with blend weight w: the full count for w > 1/2, half for w in (1/4, 1/2], ...,
 #: down to 1 / 2**MAX_RAY_HALVINGS of it (see :func:`ray_shares`).
 MAX_RAY_HALVINGS = 3
@@ -36,6 +41,7 @@ class TexelTargets:
         self.count = len(texels)
         self.computed = texels.ring <= ray_rings                 # (n,) bool: targets that get rays
         self.ids = texels.index                                  # (n,) stable ids: the per-texel scramble
+        self._geometry = None                                    # (points, normals, geometric) when kept
 
     def part_of(self, selection):
         """(k,) int: the input mesh of each selected texel."""
@@ -46,9 +52,17 @@ class TexelTargets:
         return selection[np.lexsort((self.ids[selection], self.part_of(selection)))]
 
     def geometry(self, selection):
-        """Surface point, shading normal and geometric normal (k, 3) of some texels, in object space."""
+        """Surface point, shading normal and geometric normal (k, 3) of some texels that get rays, in object
+        space (kept after the first call, up to :data:`GEOMETRY_CACHE_TEXELS` texels)."""
         layout = self.layout
-        return texel_geometry(layout.texels, layout.atlas, layout.mesh, selection)
+        if self.count > GEOMETRY_CACHE_TEXELS:
+            return texel_geometry(layout.texels, layout.atlas, layout.mesh, selection)
+        if self._geometry is None:
+            computed = np.flatnonzero(self.computed)
+            self._geometry = tuple(np.zeros((self.count, 3)) for _ in range(3))
+            for kept, found in zip(self._geometry, texel_geometry(layout.texels, layout.atlas, layout.mesh, computed)):
+                kept[computed] = found
+        return tuple(kept[selection] for kept in self._geometry)
 
     def neighbours_agree(self, selection, code):
         """(k,) bool: every atlas neighbour of each selected texel has its pilot code (:func:`neighbours_agree`)."""

@@ -82,3 +82,20 @@ def test_adaptive_stop_with_weighted_rays_scales_each_texel_to_its_own_count(tor
     assert set(np.unique(job.ao[stopped])) == {0.0, 1.0}                 # both kinds of stop
     assert np.array_equal(job.sums[stopped], np.where(job.ao[stopped] == 0.0, job.ray_count[stopped], 0.0))
     assert job.rays_cast == job.cast_count.sum() < job.ray_count[job.computed].sum()
+
+
+@pytest.mark.parametrize("kept", [True, False])
+def test_texel_targets_give_every_selection_the_geometry_of_its_own_texels(torus_layout, kept, monkeypatch):
+    # Kept or computed per call (over GEOMETRY_CACHE_TEXELS), a selection reads its own texels' points and
+    # normals, in its own order, bit for bit as texel_geometry computes them.
+    import seamless_ao.core.targets as targets_module
+    monkeypatch.setattr(targets_module, "GEOMETRY_CACHE_TEXELS", 1 << 30 if kept else 0)
+    targets = TexelTargets(torus_layout)
+    layout = torus_layout
+    computed = np.flatnonzero(targets.computed)
+    rng = np.random.default_rng(5)
+    for selection in (computed[::-1], rng.choice(computed, 300, replace=False), computed[:1]):
+        expected = texel_geometry(layout.texels, layout.atlas, layout.mesh, selection)
+        for got, want in zip(targets.geometry(selection), expected):
+            assert got.shape == want.shape and np.array_equal(got, want)
+    assert (targets._geometry is not None) == kept
