@@ -50,13 +50,17 @@ SAME_SURFACE = 1.0e-6
 TOUCH = 1.0e-7
 
 
-def project(points, signed_axis):
+def project(points, signed_axis, axis=None):
     """Project points on the chart plane of their signed axis.
 
     Parameters
     ----------
     points : (..., 3) float64
     signed_axis : int or (...,) int, 0..5
+    axis : int, optional
+        The one axis (0..2) every ``signed_axis`` lies on, when the caller
+        knows (a pass over one axis' charts): its columns are then read as
+        they are, with no gather, for the same values.
 
     Returns
     -------
@@ -66,11 +70,17 @@ def project(points, signed_axis):
     points = np.asarray(points, dtype=np.float64)
     shape = points.shape[:-1]
     signed_axis = np.broadcast_to(np.asarray(signed_axis), shape).ravel()
+    uv = np.empty((len(signed_axis), 2))
+    if axis is not None:
+        columns = points.reshape(-1, 3)
+        uv[:, 0] = columns[:, _U_COMPONENT[axis]] * _U_SIGN[signed_axis]
+        uv[:, 1] = columns[:, _V_COMPONENT[axis]] * _V_SIGN[signed_axis]
+        depth = columns[:, axis] * _DEPTH_SIGN[signed_axis]
+        return uv.reshape(shape + (2,)), depth.reshape(shape)
     axis = signed_axis // 2
     # one gather per output from the flat coordinates (masking by axis costs four times as much)
     flat = points.ravel()
     base = np.arange(0, flat.size, 3)
-    uv = np.empty((len(base), 2))
     uv[:, 0] = flat[base + _U_COMPONENT[axis]] * _U_SIGN[signed_axis]
     uv[:, 1] = flat[base + _V_COMPONENT[axis]] * _V_SIGN[signed_axis]
     depth = flat[base + axis] * _DEPTH_SIGN[signed_axis]
@@ -232,9 +242,9 @@ def triangle_chart_geometry(mesh, charts, axis):
     group[mesh.degenerate] = -1
     signed = np.where(group >= 0, charts.chart_axis[np.maximum(group, 0)], 2 * axis)
     corners = mesh.positions[mesh.triangles]
-    uv, depth = project(corners, signed[:, None])
+    uv, depth = project(corners, signed[:, None], axis)
     # the normal's component along the signed axis (AXES rows are unit axes)
-    cos = np.clip(mesh.triangle_normal[np.arange(len(signed)), signed // 2] * AXES[signed].sum(1), 0.05, 1.0)
+    cos = np.clip(mesh.triangle_normal[:, axis] * _DEPTH_SIGN[signed], 0.05, 1.0)
     slope = np.sqrt(1.0 - cos**2) / cos
     return group, uv, depth, slope
 
@@ -310,7 +320,7 @@ def cut_long_charts(mesh, charts, max_length):
         column = chart_of_face[:, axis]
         triangle = np.flatnonzero(column[mesh.triangle_face] >= 0)
         chart = column[mesh.triangle_face[triangle]]
-        uv, _ = project(corners[triangle], chart_axis[chart][:, None])
+        uv, _ = project(corners[triangle], chart_axis[chart][:, None], axis)
         low, high = group_boxes(uv, chart, len(chart_axis))
         length = np.where(np.isfinite(low), high - low, 0.0)
         pieces = np.ceil(length.max(axis=1) / max(max_length, 1e-300)).astype(np.int64)

@@ -6,7 +6,7 @@ import pytest
 import meshes
 from layout_checks import check_charts, overlaps_per_axis, surface_normals
 from seamless_ao.core.adjacency import face_adjacency
-from seamless_ao.core.clustering import cluster_faces, signed_axis_clusters
+from seamless_ao.core.clustering import AXES, BASES, cluster_faces, project, signed_axis_clusters
 from seamless_ao.core.mesh import TriangleMesh
 
 
@@ -266,3 +266,17 @@ def test_merging_cells_follows_the_links_in_order_and_never_joins_an_apart_pair(
     assert group[0] == group[5] == group[4] and group[3] != group[0]
     nothing = np.zeros((0, 2), dtype=np.int64)
     assert merge_unless_apart(3, nothing, nothing).tolist() == [0, 1, 2]
+
+
+@pytest.mark.parametrize("axis", [0, 1, 2])
+def test_project_reads_the_chart_plane_basis_and_one_axis_reads_the_same_bit_for_bit(axis):
+    rng = np.random.default_rng(axis)
+    points = rng.normal(0, 1, (500, 3, 3)) * rng.uniform(1e-3, 1e3, (500, 1, 1))
+    signed = 2 * axis + rng.integers(0, 2, (500, 1))
+    uv, depth = project(points, signed)
+    basis = BASES[np.broadcast_to(signed, (500, 3))]                            # (500, 3, 2, 3)
+    assert np.allclose(uv, np.einsum("tcd,tcbd->tcb", points, basis), rtol=1e-15, atol=0)
+    assert np.allclose(depth, np.einsum("tcd,tcd->tc", points, AXES[np.broadcast_to(signed, (500, 3))]),
+                       rtol=1e-15, atol=0)
+    fast_uv, fast_depth = project(points, signed, axis)
+    assert np.array_equal(fast_uv, uv) and np.array_equal(fast_depth, depth)
