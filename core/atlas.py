@@ -221,8 +221,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     dominant_member[orphan_triangle] = len(member_triangle) - len(orphan_triangle) + np.arange(len(orphan_triangle))
 
     point_member = _largest_member(mesh, member_triangle, member_chart, charts.count,
-                                   len(member_triangle) - len(orphan_triangle))
-    point_member[placement.point_texel < 0] = -1
+                                   len(member_triangle) - len(orphan_triangle), placement.point_texel >= 0)
     width, height = placement.width, placement.height
     point_texels = len(np.unique(placement.point_texel[placement.point_texel >= 0]))
     drawn_area = float(member_area[live & (placement.point_texel[member_chart[:len(live)]] < 0)].sum())
@@ -244,17 +243,18 @@ def _chart_centres(mesh, member_triangle, member_chart, chart_count):
     return np.stack([np.bincount(member_chart, centre[:, k], chart_count) for k in range(3)], axis=1) / count[:, None]
 
 
-def _largest_member(mesh, member_triangle, member_chart, chart_count, placed_count):
-    """(c,) the largest live member of each chart (-1 for charts with none)."""
-    members = np.arange(placed_count)
+def _largest_member(mesh, member_triangle, member_chart, chart_count, placed_count, wanted):
+    """(c,) the largest live member of each ``wanted`` chart ((c,) bool; -1 for the others and for charts with
+    none): only their members are sorted."""
+    members = np.flatnonzero(wanted[member_chart[:placed_count]])
     area = np.where(mesh.degenerate[member_triangle[members]], -1.0, mesh.triangle_area[member_triangle[members]])
     order = np.lexsort((-area, member_chart[members]))
     chart_sorted = member_chart[members][order]
     first = np.ones(len(order), dtype=bool)
     first[1:] = chart_sorted[1:] != chart_sorted[:-1]
+    first &= area[order] >= 0.0                  # a chart whose largest member is degenerate has none live
     best = np.full(chart_count, -1, dtype=np.int64)
     best[chart_sorted[first]] = members[order[first]]
-    best[area[np.maximum(best, 0)] < 0] = -1
     return best
 
 

@@ -1,10 +1,13 @@
 """Issue 4: charts to one packed atlas with exact texel points and normals."""
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
 import meshes
 from layout_checks import check_layers_do_not_overlap, check_lookups, check_texels_finite
+from seamless_ao.core.atlas import _largest_member
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.mesh import TriangleMesh
 from seamless_ao.core.layout import build_layout
@@ -84,3 +87,21 @@ def test_empty_mesh_is_refused():
     mesh = TriangleMesh(np.zeros((3, 3)), np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3, 3)))
     with pytest.raises(SeamlessAOError, match="no faces"):
         build_layout(mesh)
+
+
+def test_largest_member_is_each_wanted_charts_largest_live_triangle_written_out_chart_by_chart():
+    rng = np.random.default_rng(11)
+    triangles, charts, members = 300, 40, 500
+    area = rng.choice([0.0, 1.0, 2.0, 3.0], triangles)          # ties, and degenerate triangles (area 0)
+    mesh = SimpleNamespace(triangle_area=area, degenerate=area == 0.0)
+    member_triangle = rng.integers(0, triangles, members)
+    member_chart = rng.integers(0, charts, members)
+    placed = members - 30                                        # the last members are orphans: never chosen
+    wanted = rng.random(charts) < 0.6
+    best = _largest_member(mesh, member_triangle, member_chart, charts, placed, wanted)
+    for chart in range(charts):
+        mine = [m for m in range(placed) if member_chart[m] == chart and not mesh.degenerate[member_triangle[m]]]
+        if not wanted[chart] or not mine:
+            assert best[chart] == -1
+        else:       # the largest, the first in member order among equals
+            assert best[chart] == max(mine, key=lambda m: (area[member_triangle[m]], -m))
