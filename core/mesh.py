@@ -191,16 +191,26 @@ def sanitized_normals(corner_normals, triangle_normal):
     (t, 3, 3) float64, every row unit length ((0, 0, 1) when nothing better exists).
     """
     normals = np.array(corner_normals, dtype=np.float64)
-    normals[~np.isfinite(normals).all(axis=2)] = 0.0
-    length = np.linalg.norm(normals, axis=2)
+    finite = np.isfinite(normals)
+    if not finite.all():
+        normals[~finite.all(axis=2)] = 0.0
+    length = _row_length(normals)
     bad = length < 1.0e-12
-    fallback = np.broadcast_to(triangle_normal[:, None, :], normals.shape)
-    normals[bad] = fallback[bad]
-    length = np.linalg.norm(normals, axis=2)
-    still_bad = length < 1.0e-12
-    normals[still_bad] = (0.0, 0.0, 1.0)
-    length[still_bad] = 1.0
+    if bad.any():                                   # only the replaced rows need measuring again
+        fallback = np.broadcast_to(triangle_normal[:, None, :], normals.shape)
+        normals[bad] = fallback[bad]
+        length[bad] = _row_length(normals[bad])
+        still_bad = length < 1.0e-12
+        normals[still_bad] = (0.0, 0.0, 1.0)
+        length[still_bad] = 1.0
     return normals / length[..., None]
+
+
+def _row_length(vectors):
+    """(...,) Euclidean length of ``vectors`` (..., 3): ``np.linalg.norm(vectors, axis=-1)``'s arithmetic
+    (the squares summed in order), without its reduction over a trailing axis of 3, three times slower."""
+    x, y, z = vectors[..., 0], vectors[..., 1], vectors[..., 2]
+    return np.sqrt(x * x + y * y + z * z)
 
 
 def weld_vertices(positions, tolerance, groups=None):

@@ -12,6 +12,7 @@ from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.graph import Adjacency, sort_order
+from seamless_ao.core.mesh import sanitized_normals
 from seamless_ao.core.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
 from seamless_ao.core.geometry2d import segment_distance, triangle_angles
 from seamless_ao.core.packing import SMALL_TEXELS, density_filling
@@ -141,6 +142,30 @@ def test_triangle_angles_are_the_law_of_cosines_angles_and_sum_to_pi():
     # both windings, and a right angle where the corners say so
     square = triangle_angles(np.array([[[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]], [[0.0, 0.0], [0.0, 1.0], [2.0, 0.0]]]))
     assert np.allclose(square[:, 0], np.pi / 2) and np.allclose(square[0, 1:], square[1, [2, 1]])
+
+
+def test_sanitized_normals_are_unit_and_replace_only_what_cannot_be_a_normal():
+    rng = np.random.default_rng(8)
+    triangles = 400
+    given = rng.normal(0, 1, (triangles, 3, 3)) * rng.uniform(1e-6, 1e6, (triangles, 3, 1))
+    broken = rng.choice(4, (triangles, 3), p=[0.85, 0.05, 0.05, 0.05])      # 1 zero, 2 NaN, 3 infinite
+    given[broken == 1] = 0.0
+    given[broken == 2, 0] = np.nan
+    given[broken == 3, 2] = -np.inf
+    face = rng.normal(0, 1, (triangles, 3))
+    face /= np.linalg.norm(face, axis=1)[:, None]
+    face[rng.random(triangles) < 0.1] = 0.0                                 # degenerate triangles
+    normals = sanitized_normals(given, face)
+    for t in range(triangles):
+        for c in range(3):
+            if broken[t, c] == 0:
+                expected = given[t, c] / np.linalg.norm(given[t, c])
+            elif face[t].any():
+                expected = face[t]
+            else:
+                expected = np.array([0.0, 0.0, 1.0])
+            assert np.allclose(normals[t, c], expected, rtol=0, atol=1e-12)
+    assert np.allclose(np.linalg.norm(normals, axis=2), 1.0, rtol=0, atol=1e-12)
 
 
 def random_layout(rng, count, corners=3):
