@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry2d import band_x_extent, corner_max, corner_min, group_boxes
+from .geometry2d import band_x_extent, boxes_of_groups, corner_max, corner_min
 from .graph import index_in_runs
 
 #: Most bands per chart (a chart's cover has twice as many triangles).
@@ -72,15 +72,16 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     Covers
     """
     member_chart = np.asarray(member_chart, dtype=np.int64)
-    low, high = group_boxes(local_uv, member_chart, chart_count)
+    # each member's box, once: the charts' boxes, the bands and whole triangles' x-extents all read it
+    member_low, member_high = corner_min(local_uv), corner_max(local_uv)             # (m, 2) each
+    low, high = boxes_of_groups(member_low, member_high, member_chart, chart_count)
     height = np.where(np.isfinite(low[:, 1]), high[:, 1] - low[:, 1], 0.0)
     rows = np.clip(np.ceil(height * expected_density / ROW_TEXELS), 1, MAX_ROWS).astype(np.int64)
     first_row = np.concatenate([[0], np.cumsum(rows)[:-1]])
     band = np.where(height > 0, height / rows, 1.0)                          # (c,) band height
 
     # every (member, band) pair the member's y-range touches
-    y_min = corner_min(local_uv[:, :, 1])
-    y_max = corner_max(local_uv[:, :, 1])
+    y_min, y_max = member_low[:, 1], member_high[:, 1]
     chart_low_y, chart_band = low[member_chart, 1], band[member_chart]
     last = rows[member_chart] - 1
     r0 = np.clip(np.floor((y_min - chart_low_y) / chart_band), 0, last).astype(np.int64)
@@ -99,7 +100,7 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     band_high = np.where(pair_row == last[pair_member], band_high + reach, band_high)
     x0, x1 = band_x_extent(local_uv[pair_member], band_low, band_high)
     whole = np.flatnonzero(short)
-    whole_low, whole_high = corner_min(local_uv[whole, :, 0]), corner_max(local_uv[whole, :, 0])
+    whole_low, whole_high = member_low[whole, 0], member_high[whole, 0]
     x0 = np.concatenate([whole_low, whole_low, x0])
     x1 = np.concatenate([whole_high, whole_high, x1])
     pair_member = np.concatenate([whole, whole, pair_member])

@@ -35,9 +35,15 @@ def group_boxes(triangle, group, count):
     ``triangle`` (k, 3, 2), ``group`` (k,) int in ``[0, count)``; an empty group
     gets ``low = inf, high = -inf``.
     """
-    low = scatter_rows(np.minimum, np.full((count, 2), np.inf), group, corner_min(triangle))
-    high = scatter_rows(np.maximum, np.full((count, 2), -np.inf), group, corner_max(triangle))
-    return low, high
+    return boxes_of_groups(corner_min(triangle), corner_max(triangle), group, count)
+
+
+def boxes_of_groups(low, high, group, count):
+    """Bounding box of each group of boxes ``low, high`` (k, 2), ``group`` (k,) int in ``[0, count)``:
+    ``low, high`` (count, 2) float64, ``inf, -inf`` for an empty group."""
+    group_low = scatter_rows(np.minimum, np.full((count, 2), np.inf), group, low)
+    group_high = scatter_rows(np.maximum, np.full((count, 2), -np.inf), group, high)
+    return group_low, group_high
 
 
 def band_x_extent(triangle, band_low, band_high):
