@@ -234,26 +234,28 @@ def covered_rows(uv, height, half_open=False):
     triangle, y : (r,) int64, the triangle and row of each crossing
     x_low, x_high : (r,) float64
     """
-    x, y = uv[:, :, 0].copy(), uv[:, :, 1].copy()
+    # one array per corner and coordinate: swaps by np.where, not masked writes into (k, 3) columns
+    x = [uv[:, corner, 0] for corner in range(3)]
+    y = [uv[:, corner, 1] for corner in range(3)]
     for i, j in ((0, 1), (1, 2), (0, 1)):                   # sort the corners by (y, x)
-        swap = (y[:, j] < y[:, i]) | ((y[:, j] == y[:, i]) & (x[:, j] < x[:, i]))
-        x[swap, i], x[swap, j] = x[swap, j], x[swap, i]
-        y[swap, i], y[swap, j] = y[swap, j], y[swap, i]
+        swap = (y[j] < y[i]) | ((y[j] == y[i]) & (x[j] < x[i]))
+        x[i], x[j] = np.where(swap, x[j], x[i]), np.where(swap, x[i], x[j])
+        y[i], y[j] = np.where(swap, y[j], y[i]), np.where(swap, y[i], y[j])
 
     def slope(i, j):
-        rise = y[:, j] - y[:, i]
-        return np.divide(x[:, j] - x[:, i], rise, out=np.zeros(len(rise)), where=rise > 0)
+        rise = y[j] - y[i]
+        return np.divide(x[j] - x[i], rise, out=np.zeros(len(rise)), where=rise > 0)
 
     low_slope, first_slope, second_slope = slope(0, 2), slope(0, 1), slope(1, 2)
-    first_row = np.clip(np.ceil(y[:, 0] - 0.5), 0, height).astype(np.int64)
-    last_row = np.clip((np.ceil(y[:, 2] - 0.5) - 1) if half_open else np.floor(y[:, 2] - 0.5), -1,
+    first_row = np.clip(np.ceil(y[0] - 0.5), 0, height).astype(np.int64)
+    last_row = np.clip((np.ceil(y[2] - 0.5) - 1) if half_open else np.floor(y[2] - 0.5), -1,
                        height - 1).astype(np.int64)
     triangle, row = _rows(first_row, last_row)
     centre = row + 0.5
-    x0, y0 = x[triangle, 0], y[triangle, 0]
+    x0, y0 = x[0][triangle], y[0][triangle]
     along_long = x0 + (centre - y0) * low_slope[triangle]
-    upper = centre >= y[triangle, 1]
-    along_short = np.where(upper, x[triangle, 1] + (centre - y[triangle, 1]) * second_slope[triangle],
+    upper = centre >= y[1][triangle]
+    along_short = np.where(upper, x[1][triangle] + (centre - y[1][triangle]) * second_slope[triangle],
                            x0 + (centre - y0) * first_slope[triangle])
     return triangle, row, np.minimum(along_long, along_short), np.maximum(along_long, along_short)
 
