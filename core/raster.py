@@ -17,7 +17,8 @@ point extrapolated into the solid at a concave crease.
 
 Memory is linear in texels: two full-size maps while rasterising (8 bytes per
 image texel), then compact arrays of the texels in use (13 bytes each); points
-and normals are computed on demand for one batch at a time.
+and normals are computed on demand for one batch at a time (a bake of up to
+:data:`.targets.GEOMETRY_CACHE_TEXELS` texels keeps them, 72 bytes a texel).
 """
 
 from dataclasses import dataclass
