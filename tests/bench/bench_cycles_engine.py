@@ -17,7 +17,6 @@ BVH, no code shared with either route) at the same points and normals.
 """
 
 import argparse
-import sys
 import time
 
 import numpy as np
@@ -25,7 +24,7 @@ import numpy as np
 from common import finish, markdown_table, say
 
 import bpy
-import package
+from bench_fixed_cost import scene
 from plain_reference import hidden, plain_ao
 from seamless_ao.core.mesh import mesh_size
 from seamless_ao.core.pipeline import bake_arrays
@@ -33,9 +32,6 @@ from seamless_ao.core.raster import COVERED, texel_geometry
 from seamless_ao.core.rays import ORIGIN_OFFSET
 from seamless_ao.operators.adapters.casters import NodesCaster
 from seamless_ao.operators.adapters.mesh_data import read_triangles
-
-sys.path.insert(0, str(package.ROOT / "tests" / "bench"))
-from bench_fixed_cost import scene  # noqa: E402
 
 #: Half-size of each texel's triangle in 3D, relative to the object's diagonal (far below a texel).
 TEXEL_TRIANGLE = 1e-4
@@ -45,7 +41,7 @@ RAY_VISIBILITY = ("visible_diffuse", "visible_glossy", "visible_transmission", "
 
 
 def texel_mesh(points, shading, geometric, xy, width, height, diagonal):
-    """A mesh of one small triangle per texel: at the point lifted as our rays are, facing ``geometric``,
+    """A mesh of one small triangle per texel: at the point lifted along ``geometric`` by our rays' offset, facing it,
     smooth shaded with ``shading`` as its normals, its UV triangle around the texel's centre."""
     count = len(points)
     lifted = points + geometric * (ORIGIN_OFFSET * diagonal)
@@ -73,11 +69,12 @@ def texel_mesh(points, shading, geometric, xy, width, height, diagonal):
     return mesh
 
 
-def cycles_texel_ao(points, shading, geometric, xy, width, height, samples, max_distance, runs):
-    """Cycles' AO at the texels: (values (k,), median seconds of the bake call)."""
+def cycles_texel_ao(points, shading, geometric, xy, width, height, samples, diagonal, runs):
+    """Cycles' AO at the texels, rays reaching half the object's ``diagonal``: (values (k,), median seconds
+    of the bake call)."""
     context = bpy.context
     scene_data = context.scene
-    diagonal = context.scene.get("bench diagonal")
+    max_distance = 0.5 * diagonal
     mesh = texel_mesh(points, shading, geometric, xy, width, height, diagonal)
     ob = bpy.data.objects.new("bench texels", mesh)
     scene_data.collection.objects.link(ob)
@@ -140,8 +137,6 @@ def main():
         ob = scene(name)
         mesh, _ = read_triangles(ob.data)
         diagonal = mesh_size(mesh.positions)
-        bpy.context.scene["bench diagonal"] = diagonal
-        max_distance = 0.5 * diagonal
         reference = None
         for rays in args.rays:
             ours, seconds = [], []
@@ -163,7 +158,7 @@ def main():
                 seen = ~hidden(mesh.positions, mesh.triangles, triangle, points[judged])
                 judged = np.sort(judged[seen][:args.points])
                 reference = plain_ao(mesh.positions, mesh.triangles, points[judged], shading[judged],
-                                     geometric[judged], max_distance, rays=args.reference_rays)
+                                     geometric[judged], 0.5 * diagonal, rays=args.reference_rays)
                 reference_noise = float(np.sqrt(np.mean(reference * (1 - reference)) / args.reference_rays))
             ours_error = result.texel_ao[cast][judged] - reference
             rows.append([name, "Seamless AO, Geometry Nodes", rays, "{:,}".format(len(cast)),
@@ -172,7 +167,7 @@ def main():
                          "{:.4f}".format(np.sqrt(np.mean(ours_error ** 2))), "{:+.4f}".format(ours_error.mean()), ""])
             print(rows[-1], flush=True)
             values, bake_seconds = cycles_texel_ao(points, shading, geometric, texels.xy(cast), texels.width,
-                                                   texels.height, rays, max_distance, args.runs)
+                                                   texels.height, rays, diagonal, args.runs)
             cycles_error = values[judged] - reference
             rows.append([name, "Cycles at the same texels", rays, "{:,}".format(len(cast)),
                          "{:.2f}".format(bake_seconds), "{:.2f}".format(len(cast) * rays / bake_seconds / 1e6),
