@@ -171,7 +171,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     if (image_size is None) == (density is None):
         raise ValueError("give exactly one of image_size and density")
     member_triangle, member_chart, membership = chart_members(mesh, charts)
-    local_uv, _ = project(mesh.positions[mesh.triangles[member_triangle]], charts.chart_axis[member_chart][:, None])
+    local_uv, _ = project(mesh.corners[member_triangle], charts.chart_axis[member_chart][:, None])
     live = ~mesh.degenerate[member_triangle]
     if not live.any():
         raise SeamlessAOError("The mesh has no face with area; there is nothing to pack")
@@ -210,7 +210,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     # Triangles of faces in no chart (zero area) get a member in a neighbour's chart.
     orphan_triangle, orphan_chart = _adopt_orphans(mesh, topology, charts)
     if len(orphan_triangle):
-        orphan_local, _ = project(mesh.positions[mesh.triangles[orphan_triangle]], charts.chart_axis[orphan_chart][:, None])
+        orphan_local, _ = project(mesh.corners[orphan_triangle], charts.chart_axis[orphan_chart][:, None])
         member_uv = np.concatenate([member_uv, _apply(transforms[orphan_chart], orphan_local)])
         member_triangle = np.concatenate([member_triangle, orphan_triangle])
         member_chart = np.concatenate([member_chart, orphan_chart])
@@ -237,7 +237,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
 
 def _chart_centres(mesh, member_triangle, member_chart, chart_count):
     """(c, 3) mean of the triangle centres of each chart (object units)."""
-    corners = mesh.positions[mesh.triangles]
+    corners = mesh.corners
     centre = ((corners[:, 0] + corners[:, 1] + corners[:, 2]) / 3.0)[member_triangle]
     count = np.maximum(np.bincount(member_chart, minlength=chart_count), 1)
     return np.stack([np.bincount(member_chart, centre[:, k], chart_count) for k in range(3)], axis=1) / count[:, None]

@@ -241,8 +241,7 @@ def triangle_chart_geometry(mesh, charts, axis):
     group = charts.chart_of_face[mesh.triangle_face, axis].copy()
     group[mesh.degenerate] = -1
     signed = np.where(group >= 0, charts.chart_axis[np.maximum(group, 0)], 2 * axis)
-    corners = mesh.positions[mesh.triangles]
-    uv, depth = project(corners, signed[:, None], axis)
+    uv, depth = project(mesh.corners, signed[:, None], axis)
     # the normal's component along the signed axis (AXES rows are unit axes)
     cos = np.clip(mesh.triangle_normal[:, axis] * _DEPTH_SIGN[signed], 0.05, 1.0)
     slope = np.sqrt(1.0 - cos**2) / cos
@@ -313,7 +312,7 @@ def cut_long_charts(mesh, charts, max_length):
     -------
     Charts, renumbered if anything was cut.
     """
-    corners = mesh.positions[mesh.triangles]                                  # (t, 3, 3)
+    corners = mesh.corners                                                    # (t, 3, 3)
     chart_of_face = charts.chart_of_face.copy()
     chart_axis = charts.chart_axis
     for axis in range(3):

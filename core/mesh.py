@@ -41,6 +41,8 @@ class TriangleMesh:
     part_scale : (p,) float64
         Each part's own ``scale``: its tolerances (welding, degenerate
         triangles, injectivity, rim inset) are relative to it.
+    corners : (t, 3, 3) float64
+        ``positions[triangles]``, computed once.
     """
 
     positions: np.ndarray
@@ -56,6 +58,7 @@ class TriangleMesh:
     triangle_area: np.ndarray = field(init=False, repr=False, default=None)
     triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
     degenerate: np.ndarray = field(init=False, repr=False, default=None)
+    corners: np.ndarray = field(init=False, repr=False, default=None)
 
     def __post_init__(self):
         self.positions = np.ascontiguousarray(self.positions, dtype=np.float64).reshape(-1, 3)
@@ -76,7 +79,8 @@ class TriangleMesh:
         self.scale = mesh_size(self.positions[used] if t else self.positions)
         self.part_of_vertex = np.zeros(len(self.positions), dtype=np.int64)
         self.part_scale = np.array([self.scale])
-        corners = self.positions[self.triangles]
+        # kept: the clustering, injectivity, cutting and packing passes all read them
+        corners = self.corners = self.positions[self.triangles]
         self.triangle_cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         length = np.linalg.norm(self.triangle_cross, axis=1)
         self.triangle_area = 0.5 * length
