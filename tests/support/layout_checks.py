@@ -8,7 +8,8 @@ from plane_judge import boxes_within, depth_at, interiors_overlap, overlap_point
 from seamless_ao.core.adjacency import face_adjacency
 from seamless_ao.core.clustering import AXES, NORMAL_SMOOTHING, SAME_SURFACE, cluster_faces
 from seamless_ao.core.layout import layer_lookup
-from seamless_ao.core.raster import COVERED, texel_geometry
+from seamless_ao.core.packing import SMALL_TEXELS
+from seamless_ao.core.raster import COVERED, PADDING, texel_geometry
 
 
 def random_surface_points(mesh, count, rng, per_triangle=False):
@@ -157,3 +158,41 @@ def check_charts(mesh, compare_angle=60.0):
         assert (within | dominant).all(), "a face whose surface is outside the compare angle joined a chart"
     assert overlaps_per_axis(mesh, topology, charts) == [0, 0, 0], "a chart folds over itself"
     return topology, charts
+
+
+def chart_kinds(atlas):
+    """(c,) int: 0 point, 1 small, 2 large, as the packer classed each chart at the atlas' density."""
+    count = len(atlas.chart_texel)
+    placed = atlas.member_placed
+    chart, uv = atlas.member_chart[placed], atlas.member_uv[placed]          # uv in texels
+    low = np.full((count, 2), np.inf)
+    high = np.full((count, 2), -np.inf)
+    np.minimum.at(low, chart, uv.min(axis=1))
+    np.maximum.at(high, chart, uv.max(axis=1))
+    extent = np.where(np.isfinite(low), high - low, 0.0)
+    kind = np.where(extent.min(axis=1) <= SMALL_TEXELS, 1, 2)
+    kind[atlas.chart_texel >= 0] = 0
+    return kind
+
+
+def least_gap(layout, kind, largest=16):
+    """Fewest texels free between the covered or near texels of two different large charts (None: none
+    within ``largest``)."""
+    atlas, texels = layout.atlas, layout.texels
+    drawn = texels.kind != PADDING
+    chart = atlas.member_chart[texels.member[drawn]]
+    chart = np.where(kind[chart] == 2, chart, -1)
+    border = largest + 1
+    label = np.full((texels.height + 2 * border, texels.width + 2 * border), -1, dtype=np.int64)
+    xy = texels.xy(drawn)
+    label[xy[:, 1] + border, xy[:, 0] + border] = chart
+    here = label[border:-border, border:-border]
+    for step in range(1, largest + 1):
+        for dx in range(-step, step + 1):
+            for dy in range(-step, step + 1):
+                if max(abs(dx), abs(dy)) != step:
+                    continue
+                there = label[border + dy:border + dy + texels.height, border + dx:border + dx + texels.width]
+                if ((here >= 0) & (there >= 0) & (here != there)).any():
+                    return step - 1
+    return None
