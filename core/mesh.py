@@ -43,6 +43,10 @@ class TriangleMesh:
         triangles, injectivity, rim inset) are relative to it.
     corners : (t, 3, 3) float64
         ``positions[triangles]``, computed once.
+    corner_height : (t, 3) float64
+        Each triangle's height over the side opposite each corner (0 for a
+        degenerate triangle): a point at barycentrics ``b`` is ``min(b *
+        corner_height)`` from the triangle's border.
     """
 
     positions: np.ndarray
@@ -59,6 +63,7 @@ class TriangleMesh:
     triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
     degenerate: np.ndarray = field(init=False, repr=False, default=None)
     corners: np.ndarray = field(init=False, repr=False, default=None)
+    corner_height: np.ndarray = field(init=False, repr=False, default=None)
 
     def __post_init__(self):
         self.positions = np.ascontiguousarray(self.positions, dtype=np.float64).reshape(-1, 3)
@@ -84,6 +89,9 @@ class TriangleMesh:
         self.triangle_cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
         length = np.linalg.norm(self.triangle_cross, axis=1)
         self.triangle_area = 0.5 * length
+        opposite = corners[:, [2, 0, 1]] - corners[:, [1, 2, 0]]                  # (t, 3 corners, 3)
+        side = np.sqrt((opposite * opposite).sum(axis=2))
+        self.corner_height = length[:, None] / np.maximum(side, 1e-300)
         self.degenerate = self.triangle_area <= DEGENERATE_AREA * self.scale**2
         self.triangle_normal = np.zeros_like(self.triangle_cross)
         ok = ~self.degenerate

@@ -363,8 +363,9 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     positions = mesh.positions
     points = (b0[:, None] * positions[corner[:, 0]] + b1[:, None] * positions[corner[:, 1]]
               + b2[:, None] * positions[corner[:, 2]])
-    points = _inset_rim_points(points, np.minimum(np.minimum(b0, b1), b2) <= 0.0,
-                               positions[corner].mean(axis=1), RIM_INSET * mesh.triangle_scale[triangle])
+    inset = RIM_INSET * mesh.triangle_scale[triangle]
+    points = _inset_rim_points(points, _rim_distance(mesh, triangle, (b0, b1, b2)) < inset,
+                               positions[corner].mean(axis=1), inset)
     normals = mesh.corner_normals[triangle]
     normals = b0[:, None] * normals[:, 0] + b1[:, None] * normals[:, 1] + b2[:, None] * normals[:, 2]
     geometric = mesh.triangle_normal[triangle]
@@ -374,6 +375,14 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     return points, normals, geometric
 
 
+def _rim_distance(mesh, triangle, bary):
+    """(k,) float64: distance of the points at barycentrics ``bary`` (three (k,) arrays, each >= 0) of
+    ``triangle`` (k,) from its border, in object units."""
+    height = mesh.corner_height[triangle]
+    b0, b1, b2 = bary
+    return np.minimum(np.minimum(b0 * height[:, 0], b1 * height[:, 1]), b2 * height[:, 2])
+
+
 def _inset_rim_points(points, rim, centres, inset):
     """Move the ``rim`` points (k,) bool toward their triangle's centre by ``inset`` (float or (k,), at
     most half way).
@@ -381,7 +390,10 @@ def _inset_rim_points(points, rim, centres, inset):
     A rim point at a concave crease lies exactly in the plane of the other
     face; rays from it into that face's half-space would start on its plane,
     miss it and see the outside (a bright line along the crease).  Inset,
-    the point lies strictly on its own face's side of the crease.
+    the point lies strictly on its own face's side of the crease.  A texel
+    whose centre falls on (or within the inset of) a side is such a point
+    too: where a chart's border runs through texel centres, as a box's walls
+    do at some densities, a whole column of texels sat on the crease.
     """
     towards = centres[rim] - points[rim]
     length = np.sqrt((towards * towards).sum(axis=1))

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from seamless_ao.core.mesh import TriangleMesh
 from seamless_ao.core.raster import NEAR, closest_barycentric, point_keys, rasterise_triangles, rim_triangles
 
 
@@ -90,3 +91,29 @@ def test_near_texels_from_the_rim_are_those_from_every_triangle(cell, jitter, ho
     # where a triangle off the rim scores as well as the rim's)
     assert sampled_distance(shortcut, uv)[near].max() <= np.sqrt(2.0) + 1e-9
     assert sampled_distance(every, uv)[near].max() <= np.sqrt(2.0) + 1e-9
+
+
+def test_rim_distance_is_the_distance_to_the_nearest_side_written_out_side_by_side():
+    """The texel points moved off a crease are those closer to their triangle's border than the inset;
+    the distance comes from each corner's height, checked against point-to-segment distances."""
+    from seamless_ao.core.raster import _rim_distance
+    rng = np.random.default_rng(5)
+    positions = rng.normal(size=(300, 3))
+    triangles = rng.integers(0, 300, (200, 3))
+    triangles = triangles[(triangles[:, 0] != triangles[:, 1]) & (triangles[:, 1] != triangles[:, 2])
+                          & (triangles[:, 0] != triangles[:, 2])]
+    mesh = TriangleMesh.from_triangles(positions, triangles)
+    triangle = rng.integers(0, len(triangles), 500)
+    bary = rng.dirichlet([1.0, 1.0, 1.0], 500)
+    bary[::7, 0] = 0.0                                                   # points on a side
+    bary /= bary.sum(axis=1, keepdims=True)
+    corners = positions[triangles[triangle]]
+    point = np.einsum("kc,kcd->kd", bary, corners)
+    expected = np.full(len(point), np.inf)
+    for i in range(3):
+        start, end = corners[:, (i + 1) % 3], corners[:, (i + 2) % 3]
+        along = np.clip(((point - start) * (end - start)).sum(axis=1) / ((end - start) ** 2).sum(axis=1), 0, 1)
+        expected = np.minimum(expected, np.linalg.norm(point - start - along[:, None] * (end - start), axis=1))
+    found = _rim_distance(mesh, triangle, tuple(bary.T))
+    assert np.allclose(found, expected, rtol=1e-9, atol=1e-12)
+    assert (found[::7] <= 1e-12).all()
