@@ -105,4 +105,3 @@ def test_largest_member_is_each_wanted_charts_largest_live_triangle_written_out_
             assert best[chart] == -1
         else:       # the largest, the first in member order among equals
             assert best[chart] == max(mine, key=lambda m: (area[member_triangle[m]], -m))
-
