@@ -8,7 +8,7 @@ from plane_judge import boxes_within, depth_at, interiors_overlap, overlap_point
 from seamless_ao.core.adjacency import face_adjacency
 from seamless_ao.core.clustering import AXES, NORMAL_SMOOTHING, SAME_SURFACE, cluster_faces
 from seamless_ao.core.layout import layer_lookup
-from seamless_ao.core.packing import SMALL_TEXELS
+from seamless_ao.core.packing import chart_kinds as packing_chart_kinds
 from seamless_ao.core.raster import COVERED, PADDING, texel_geometry
 
 
@@ -170,7 +170,9 @@ def chart_kinds(atlas):
     np.minimum.at(low, chart, uv.min(axis=1))
     np.maximum.at(high, chart, uv.max(axis=1))
     extent = np.where(np.isfinite(low), high - low, 0.0)
-    kind = np.where(extent.min(axis=1) <= SMALL_TEXELS, 1, 2)
+    # the packer's own rule on the placed extents (texels, so density 1); its points are those it stored as one
+    kind = packing_chart_kinds(extent, np.isfinite(low[:, 0]), 1.0).astype(np.int64)
+    kind[kind == 0] = 1
     kind[atlas.chart_texel >= 0] = 0
     return kind
 
