@@ -33,6 +33,9 @@ COVERED, NEAR, PADDING = 0, 1, 2
 #: Points on a triangle's rim move this far (times the object size) into it: twice
 #: the ray origins' lift (:data:`.rays.ORIGIN_OFFSET`), see :func:`_inset_rim_points`.
 RIM_INSET = 2.0e-5
+#: Rim points move at least this many texels into their triangle (:data:`RIM_INSET` where more): a
+#: texel at a chart's rim holds the AO a quarter texel inside, not the exact rim's (:func:`texel_geometry`).
+RIM_TEXELS = 0.25
 
 #: Rasterise at most this many candidate texels at once (bounds peak memory).
 CHUNK = 1 << 22
@@ -336,7 +339,12 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     (in the atlas): its exact surface point if the centre is inside, else
     the closest point of the triangle's edge.  So near and padding texels hold
     the AO at the chart's rim, never a point extrapolated off the surface
-    (which, at a concave crease, would lie inside the solid).
+    (which, at a concave crease, would lie inside the solid).  Points on the
+    rim (or within :data:`RIM_INSET` of it) move :data:`RIM_TEXELS` of a
+    texel into their triangle, at most half way to its centre: AO can jump
+    at the exact rim (two plates 10⁻⁴ apart: rays escape through the slit
+    from the rim only), and bilinear filtering spreads a rim texel's value
+    over the chart's last half texel.
 
     Parameters
     ----------
@@ -362,8 +370,8 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     corners = mesh.corners[triangle]                                        # (k, 3, 3)
     points = b0[:, None] * corners[:, 0] + b1[:, None] * corners[:, 1] + b2[:, None] * corners[:, 2]
     inset = RIM_INSET * mesh.triangle_scale[triangle]
-    points = _inset_rim_points(points, _rim_distance(mesh, triangle, (b0, b1, b2)) < inset,
-                               corners.mean(axis=1), inset)
+    points = _inset_rim_points(points, _rim_distance(mesh, triangle, (b0, b1, b2)) < inset, corners.mean(axis=1),
+                               np.maximum(inset, RIM_TEXELS / max(atlas.density, 1e-300)))
     normals = mesh.corner_normals[triangle]
     normals = b0[:, None] * normals[:, 0] + b1[:, None] * normals[:, 1] + b2[:, None] * normals[:, 2]
     geometric = mesh.triangle_normal[triangle]

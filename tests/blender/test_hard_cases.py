@@ -165,6 +165,37 @@ def test_concave_corner_shows_no_bright_line(addon, fresh_scene, image_size):
         assert abs(bias) <= 0.025, (name, normals[0], bias)
 
 
+@pytest.mark.parametrize("image_size", [448, 512, 576])
+def test_rim_texels_hold_the_chart_own_ao(addon, fresh_scene, image_size):
+    """Issue 30: two plates 10⁻⁴ apart see out through the slit from their exact rims only (AO about
+    0.4 there, 0 a texel in).  A rim texel that held the exact rim's AO spread it over the chart's last
+    half texel: points 0.0005-0.003 units (a tenth of a texel to half of one) inside the rims of the
+    plates' facing sides read up to 0.2 where the reference is about 0.  On each facing side, along
+    all four rims, they must match the plain reference on average within 0.02."""
+    from plain_reference import locate, plain_ao
+
+    ob = make("two-walls")
+    mesh, loops = read_triangles(ob.data)
+    max_distance = 1.0
+    report = seamless_ao.bake([ob], image_size=image_size, rays=32, auto_distance=False, max_distance=max_distance)
+    image = bpy.data.images[report.image]
+    along = np.linspace(-0.4, 0.4, 9)
+    for height, up in ((0.01, 1.0), (0.01 + 1e-4, -1.0)):            # plate a's top, plate b's bottom
+        points = []
+        for inset in (0.0005, 0.0015, 0.003):
+            rim = 0.5 - inset
+            points += [(x, y, height) for t in along for x, y in ((t, rim), (t, -rim), (rim, t), (-rim, t))]
+        points = np.array(points)
+        normals = np.tile([0.0, 0.0, up], (len(points), 1))
+        triangle, bary = locate(mesh.positions, mesh.triangles, points)
+        assert np.allclose(mesh.triangle_normal[triangle], normals, atol=1e-6)     # the facing side's own
+        reference = plain_ao(mesh.positions, mesh.triangles, points, normals, normals, max_distance,
+                             rays=1024, seed=5)
+        shown = shown_seamless(ob, image, loops, triangle, bary, normals)
+        error = float(np.mean(np.abs(shown - reference)))
+        assert error <= 0.02, (up, error, float(reference.mean()), float(shown.max()))
+
+
 
 #: Transforms users give objects: their own scale, or a parent's scale and rotation (radians).
 TRANSFORMS = {

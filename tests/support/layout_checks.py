@@ -9,7 +9,7 @@ from seamless_ao.core.adjacency import face_adjacency
 from seamless_ao.core.clustering import AXES, NORMAL_SMOOTHING, SAME_SURFACE, cluster_faces
 from seamless_ao.core.layout import layer_lookup
 from seamless_ao.core.packing import chart_kinds as packing_chart_kinds
-from seamless_ao.core.raster import COVERED, PADDING, texel_geometry
+from seamless_ao.core.raster import COVERED, PADDING, RIM_TEXELS, texel_geometry
 
 
 def random_surface_points(mesh, count, rng, per_triangle=False):
@@ -61,8 +61,9 @@ def check_lookups(layout, rng, count=3000, per_triangle=False):
         # The texel centre is within 0.71 texel of the point in the chart plane.  A covered
         # texel samples its centre: within 0.71 texel.  A near texel samples the point of its
         # nearest triangle closest to the centre, no farther from the centre than the point:
-        # within 1.42 texels.  The plane stretches by 1 / cos(angle to the chart axis) on the surface.
-        limit = np.where(layout.texels.kind[found] == COVERED, 0.71, 1.42) + 1e-6
+        # within 1.42 texels.  Either, on a triangle's rim, moves RIM_TEXELS of a texel (object units
+        # on the surface) into it.  The plane stretches by 1 / cos(angle to the chart axis) on the surface.
+        limit = np.where(layout.texels.kind[found] == COVERED, 0.71, 1.42) + RIM_TEXELS + 1e-6
         texel_size = 1.0 / atlas.density / cos
         distance = np.linalg.norm(texel_points - points, axis=1) / texel_size
         assert (distance <= limit).all(), "a lookup lands {:.3g} texels from its point".format(
