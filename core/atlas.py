@@ -18,7 +18,8 @@ import numpy as np
 from .clustering import project
 from .cover import chart_covers
 from .errors import SeamlessAOError
-from .packing import MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density
+from .packing import (MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density,
+                      xatlas_padding)
 
 
 @dataclass
@@ -56,7 +57,8 @@ class Atlas:
         The member whose surface a one-texel chart's texel samples (its
         largest triangle), ``-1`` for the others.
     padding : int
-        Padding the charts were packed with (texels).
+        xatlas padding the charts were packed with (:func:`.packing.xatlas_padding`): the
+        rasteriser fills this many rings around each chart.
     warnings : list of str
         Sentences for the user (tiny pieces that had to share texels).
     """
@@ -152,8 +154,9 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     topology : Topology
     charts : Charts
     padding : int
-        Texels between large charts, at most (xatlas padding, on top of the
-        ring bilinear filtering reads, which is always kept free).
+        Texels kept free between large charts (beyond the ring bilinear
+        filtering reads, which is always kept), at most: it becomes xatlas'
+        padding by :func:`.packing.xatlas_padding`.
     image_size : int, optional
         Square image size; the density is the largest that fits (within 3%),
         found by a search with a packing run as the test.
@@ -184,7 +187,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
         all_points = POINT_TEXELS / max(covers.extent.max(), 1e-300)
         expected = density_filling(covers.extent, MIN_PADDING, image_size**2, all_points,
                                    image_size / np.sqrt(max(area, 1e-300)))
-    padding = effective_padding(covers.extent, expected, padding)
+    padding = effective_padding(covers.extent, expected, xatlas_padding(padding))
     packer = Packer(covers, _chart_centres(mesh, member_triangle, member_chart, charts.count), padding)
 
     if image_size is not None:

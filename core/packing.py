@@ -36,9 +36,9 @@ SMALL_TEXELS = 6
 DENSITY_TOLERANCE = 1.03
 #: Padding shrinks while it would cost more than this share of extra atlas area.
 PADDING_OVERHEAD = 0.10
-#: Least padding between large charts: xatlas' own filtering margin alone was
+#: Least xatlas padding between large charts: xatlas' own filtering margin alone was
 #: measured to leave charts 1.35 texels apart, where bilinear filtering can read
-#: a texel both charts reach; two texels of padding keep them 2+ apart.
+#: a texel both charts reach; a padding of two keeps them 2+ texels apart.
 MIN_PADDING = 2
 #: Tolerated mismatch between xatlas' output and a pure translation, in texels.
 AFFINE_TOLERANCE = 1e-2
@@ -53,18 +53,30 @@ def chart_kinds(extent, has_live, density):
     return kind
 
 
+def xatlas_padding(free):
+    """The xatlas padding that keeps at least ``free`` texels free between two large charts' rings.
+
+    xatlas grows every chart by its padding ``q`` on each side before
+    placing it, so the texels of two neighbouring charts (rings included)
+    land ``2q`` apart, now and then ``2q - 1`` (tests/bench/bench_atlas_space.py
+    measures it): at least ``2q - 2`` texels lie free between them.
+    """
+    return max(MIN_PADDING, -(-int(free) // 2) + 1)
+
+
 def chart_footprints(extent, density, padding, has_live=None):
     """(c,) float64: texels each chart of ``extent`` (c, 2) object units takes at ``density``, as a box.
 
     Points take one texel, small charts ``(w + 2) * (h + 2)`` (whole-texel
-    ``w, h`` and the filtering ring), large ones ``(w + 2 + p) * (h + 2 + p)``
-    with the padding ``p`` they share with their neighbours.  Each is a whole
-    number that never shrinks as the density grows.
+    ``w, h`` and the filtering ring), large ones ``(w + 1 + 2q) * (h + 1 + 2q)``
+    with their share of the ``2q - 1`` texels xatlas' padding ``q`` leaves
+    between neighbours (:func:`xatlas_padding`).  Each is a whole number that
+    never shrinks as the density grows.
     """
     has_live = np.ones(len(extent), dtype=bool) if has_live is None else has_live
     kind = chart_kinds(extent, has_live, density)
     size = np.maximum(np.ceil(extent * density - 1e-9), 1.0) + 2
-    size[kind == 2] += padding
+    size[kind == 2] += 2 * padding - 1
     return np.where(kind > 0, size[:, 0] * size[:, 1], 1.0)
 
 
@@ -75,7 +87,7 @@ def footprint_texels(extent, density, padding, has_live=None):
 
 
 def effective_padding(extent, density, padding):
-    """The padding to pack with: ``padding``, shrunk while it costs too much atlas area.
+    """The xatlas padding to pack with: ``padding``, shrunk while it costs too much atlas area.
 
     :data:`MIN_PADDING` keeps bilinear filtering at one chart's rim from
     reading a texel of its neighbour; more keeps mip-maps (EEVEE at a

@@ -26,8 +26,10 @@ ACCURACY_CASES = [(name, False, (1024,) if name in ("interior", "noisy_scan") el
                          ids=["{}{}".format(c[0], "-smooth" if c[1] else "") for c in ACCURACY_CASES])
 def test_asset_bakes_as_accurately_as_the_hard_cases(name, smooth, sizes, addon, fresh_scene):
     """A real bake at 256² (finite, in [0, 1]); then RMSE <= 0.03 and 99th percentile <= 0.12 of what
-    the node group shows, against the plain 4096-ray reference (tests/support/plain_reference.py) at 500 visible
-    points, at each of ``sizes``."""
+    the node group shows, against the plain 4096-ray reference (tests/support/plain_reference.py) at 1000 visible
+    points, at each of ``sizes``.  (At 500, the p99 was the fifth-worst point: on the flat noisy scan, whose
+    worst points sit on sliver facets tilted 30-120 degrees from their neighbours, four other seeds of 500
+    points gave 0.065-0.112 where seed 3 gave 0.103 to one layout and 0.124 to another as accurate.)"""
     import bpy
     from blender_checks import image_array
     from blender_scenes import add_object, mesh_from_arrays
@@ -38,7 +40,7 @@ def test_asset_bakes_as_accurately_as_the_hard_cases(name, smooth, sizes, addon,
     positions, triangles = real_assets.ASSETS[name]()
     ob = add_object(name, mesh_from_arrays(name, positions, triangles, smooth=smooth))
     mesh, loops = read_triangles(ob.data)
-    triangle, bary, normals, reference, max_distance = reference_at_visible_points(mesh)
+    triangle, bary, normals, reference, max_distance = reference_at_visible_points(mesh, count=1000)
     report = seamless_ao.bake([ob], image_size=256, rays=8, auto_distance=False, max_distance=max_distance)
     values = image_array(bpy.data.images[report.image])                  # 256²: bakes, nothing more asked
     assert report.width == 256 and np.isfinite(values).all() and 0.0 <= values.min() <= values.max() <= 1.0

@@ -251,8 +251,8 @@ def test_density_filling_is_the_plain_bisection_over_every_chart(seed):
                 total += 1.0
                 continue
             w, h = max(np.ceil(width - 1e-9), 1.0) + 2, max(np.ceil(height - 1e-9), 1.0) + 2
-            if min(width, height) > SMALL_TEXELS:
-                w, h = w + padding, h + padding
+            if min(width, height) > SMALL_TEXELS:                     # xatlas' padding on each side, shared
+                w, h = w + 2 * padding - 1, h + 2 * padding - 1
             total += w * h
         return total
 
