@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 
 import meshes
-from layout_checks import check_layers_do_not_overlap, check_lookups, check_texels_finite
+from layout_checks import chart_kinds, check_layers_do_not_overlap, check_lookups, check_texels_finite, least_gap
 from seamless_ao.core.atlas import _largest_member
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.packing import xatlas_padding
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.raster import COVERED
 
@@ -105,3 +106,20 @@ def test_largest_member_is_each_wanted_charts_largest_live_triangle_written_out_
             assert best[chart] == -1
         else:       # the largest, the first in member order among equals
             assert best[chart] == max(mine, key=lambda m: (area[member_triangle[m]], -m))
+
+
+@pytest.mark.parametrize("padding", [2, 4, 6])
+def test_large_charts_keep_the_padding_setting_free_between_them_and_not_much_more(padding):
+    """The padding setting is the texels kept free between large charts.  xatlas grows each chart by its own
+    padding q on every side, so two charts' texels land 2q - 1 to 2q + 1 apart (2q - 2 to 2q texels free):
+    passing the setting as it was kept 7 free for 4.  At 1024² a sphere's charts are large enough that the
+    padding does not shrink."""
+    mesh = TriangleMesh.from_triangles(*meshes.uv_sphere(rings=24, segments=48), smooth=True)
+    layout = build_layout(mesh, image_size=1024, padding=padding)
+    kind = chart_kinds(layout.atlas)
+    assert (kind == 2).sum() >= 4                                   # several large charts, packed side by side
+    q = layout.atlas.padding
+    assert q == xatlas_padding(padding)
+    gap = least_gap(layout, kind)
+    assert 2 * q - 2 <= gap <= 2 * q
+    assert padding <= gap <= padding + 2
