@@ -34,6 +34,8 @@ SMALL_TEXELS = 6
 #: The density search stops when the largest density known to fit and the
 #: smallest known not to are this close (ratio).
 DENSITY_TOLERANCE = 1.03
+#: The search does not try a density this close (as a ratio) to one that did not fit.
+RETRY_TOLERANCE = 1.005
 #: Padding shrinks while it would cost more than this share of extra atlas area.
 PADDING_OVERHEAD = 0.10
 #: Least xatlas padding between large charts: xatlas' own filtering margin alone was
@@ -147,15 +149,13 @@ def largest_density(packer, image_size, area):
     share = packer.share_needed(image_size)
     largest = max(float(extent.max()), 1e-300)
     all_points = POINT_TEXELS / largest * 0.999
-    best = packer.place(all_points, image_size, share)
-    while best is None:                       # cannot happen by the choice of share; never give up
-        share *= 2
-        best = packer.place(all_points, image_size, share)
     fits_across = (image_size - 2 * (packer.padding + 3)) / largest
     low = all_points
     high = max(low, min(image_size / np.sqrt(max(area, 1e-300)), fits_across))
     if share > 1 or high <= low * DENSITY_TOLERANCE:
-        return best
+        return _all_points(packer, all_points, image_size, share)
+    best = None                               # until a trial fits: every chart one texel (placed at the end)
+    failed = []
     guess = density_filling(extent, packer.padding, image_size**2 * 0.8, low, high)
     probe = packer.place(guess, 0, share)
     efficiency = footprint_texels(extent, guess, packer.padding) / (probe.width * probe.height) if probe else 0.8
@@ -170,6 +170,7 @@ def largest_density(packer, image_size, area):
             best, low = placement, trial
         else:
             high = trial
+            failed.append(trial)
         if walking and fitted_before is not None and fits != fitted_before:
             walking = False
         fitted_before = fits
@@ -182,11 +183,25 @@ def largest_density(packer, image_size, area):
     # texels), so a bracket can close on a dip: look a little higher before
     # stopping.  (Over 55 layouts of the test meshes at 256²-2048² a look 6%
     # higher fitted twice and one 12% higher never, so only the first is tried.)
+    # A density within RETRY_TOLERANCE of one that failed gives the charts
+    # the same whole-texel sizes, or all but a few: it is not tried again.
     for _ in range(3):
-        placement = packer.place(low * 1.06, image_size, share)
+        look = low * 1.06
+        if any(abs(np.log(look / f)) < np.log(RETRY_TOLERANCE) for f in failed):
+            break
+        placement = packer.place(look, image_size, share)
         if placement is None:
             break
-        best, low = placement, low * 1.06
+        best, low = placement, look
+    return best if best is not None else _all_points(packer, all_points, image_size, share)
+
+
+def _all_points(packer, all_points, image_size, share):
+    """The placement with every chart one texel, ``share`` charts a texel (more if needed: never gives up)."""
+    best = packer.place(all_points, image_size, share)
+    while best is None:                       # cannot happen by the choice of share; never give up
+        share *= 2
+        best = packer.place(all_points, image_size, share)
     return best
 
 
