@@ -225,6 +225,59 @@ def _row_length(vectors):
     return np.sqrt(x * x + y * y + z * z)
 
 
+def exact_weld(positions, groups=None, return_first=False):
+    """(v,) int64: vertices at exactly the same position share an index (imported meshes split
+    vertices along UV seams and hard edges; the piece is still one).
+
+    One sort of a 64-bit hash of the coordinates' bits (a sort of rows would
+    be three times slower); equal hashes of different positions, vanishingly
+    rare, would only leave two vertices apart.
+
+    Parameters
+    ----------
+    positions : (v, 3) float
+    groups : (v,) int, optional: vertices of different groups never share an index
+    return_first : bool: also return the lowest vertex of each index, (w,) int64
+
+    Returns
+    -------
+    (v,) int64, numbered ``0 .. w-1`` (in no particular order)
+    """
+    positions = np.ascontiguousarray(np.asarray(positions, dtype=np.float64).reshape(-1, 3) + 0.0)  # -0.0 -> 0.0
+    count = len(positions)
+    if not count:
+        empty = np.zeros(0, dtype=np.int64)
+        return (empty, empty) if return_first else empty
+    bits = positions.view(np.uint64)
+    key = _mix(_mix(_mix(bits[:, 0]) ^ bits[:, 1]) ^ bits[:, 2])
+    if groups is not None:
+        groups = np.asarray(groups, dtype=np.int64)
+        key = _mix(key ^ groups.astype(np.uint64))
+    order = np.argsort(key, kind="stable")
+    ordered = positions[order]
+    new = np.ones(count, dtype=bool)
+    new[1:] = (key[order][1:] != key[order][:-1]) | (ordered[1:] != ordered[:-1]).any(axis=1)
+    if groups is not None:
+        new[1:] |= groups[order][1:] != groups[order][:-1]
+    welded = np.empty(count, dtype=np.int64)
+    welded[order] = np.cumsum(new) - 1
+    # a stable sort keeps each index's vertices in ascending order: its first is its lowest
+    return (welded, order[new]) if return_first else welded
+
+
+def _mix(value):
+    """A 64-bit mixing function (splitmix64's finaliser): every input bit moves every output bit, so
+    coordinates whose low bits are all zero (0.5, 2.0) still hash apart."""
+    value = (value ^ (value >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    value = (value ^ (value >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return value ^ (value >> np.uint64(31))
+
+
+
+#: Weights (magnitudes adding up to one) of the direction :func:`weld_vertices` sorts along first.
+_WELD_DIRECTION = np.array([0.5, 0.31, 0.19])
+
+
 def weld_vertices(positions, tolerance, groups=None):
     """Merge vertices closer than about ``tolerance`` (union over shifted grids).
 
@@ -255,8 +308,25 @@ def weld_vertices(positions, tolerance, groups=None):
     cell = (positions - group_low[groups]) / np.broadcast_to(np.asarray(tolerance, dtype=np.float64), (count,))[:, None]
     cells_per_axis = np.floor(cell.max(axis=0)).astype(np.int64) + 2
     single_key = float(np.prod(cells_per_axis.astype(np.float64))) * group_count < 2.0**62
-    edges = []
-    for shift in np.ndindex(2, 2, 2):
+    # Vertices at one position share every cell: weld them at once, and only their lowest one to others.
+    same, lowest = exact_weld(positions, groups, return_first=True)
+    edges = [np.stack([np.arange(count), lowest[same]], axis=1)]
+    lowest = np.sort(lowest)
+    # Two vertices share a cell of some shifted grid only if they lie less than a cell apart on every
+    # axis, so less than one apart along any direction whose weights' magnitudes add up to one (an oblique
+    # one: flat walls and floors share x, y or z): the others are alone in every cell and weld with
+    # nothing (most vertices of most meshes).
+    along = cell[lowest] @ _WELD_DIRECTION
+    reach = 1.0 + 1e-12 * float(np.abs(along).max(initial=0.0))          # and what rounding may add
+    by_along = np.lexsort((along, groups[lowest]))
+    close = (groups[lowest][by_along][1:] == groups[lowest][by_along][:-1]) & (np.diff(along[by_along]) < reach)
+    by_along = lowest[by_along]
+    lonely = np.ones(count, dtype=bool)
+    lonely[by_along[1:][close]] = False
+    lonely[by_along[:-1][close]] = False
+    others = lowest[~lonely[lowest]]                   # ascending: each cell's first is still its lowest
+    cell, groups = cell[others], groups[others]
+    for shift in np.ndindex(2, 2, 2) if len(others) else ():
         index = np.floor(cell + 0.5 * np.asarray(shift)).astype(np.int64)
         if single_key:
             keys = ((groups * cells_per_axis[0] + index[:, 0]) * cells_per_axis[1] + index[:, 1]) \
@@ -268,14 +338,11 @@ def weld_vertices(positions, tolerance, groups=None):
             order = np.lexsort(rows_to_sort.T[::-1])
             rows = rows_to_sort[order]
             change = np.flatnonzero((rows[1:] != rows[:-1]).any(axis=1)) + 1
-            starts = np.concatenate(([0], change, [count]))
+            starts = np.concatenate(([0], change, [len(others)]))
         first = np.repeat(order[starts[:-1]], np.diff(starts))
-        edges.append(np.stack([first, order], axis=1)[first != order])
-    labels = connected_components(count, np.concatenate(edges))
-    _, first_seen, inverse = np.unique(labels, return_index=True, return_inverse=True)
-    rank = np.empty(len(first_seen), dtype=np.int64)
-    rank[np.argsort(first_seen, kind="stable")] = np.arange(len(first_seen))
-    return rank[inverse.reshape(-1)]
+        edges.append(others[np.stack([first, order], axis=1)[first != order]])
+    # components come numbered in order of their smallest vertex: of first occurrence
+    return connected_components(count, np.concatenate(edges))
 
 
 @dataclass

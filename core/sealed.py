@@ -16,42 +16,12 @@ to its area, those of a shell with a hole to the hole's area.
 import numpy as np
 
 from .graph import connected_components
+from .mesh import exact_weld
 
 #: A piece is sealed when its area-weighted normals sum to less than this fraction of its area (a closed
 #: surface 0, a hemisphere one half, a flat sheet 1; tests/bench/bench_buried.py prints the openings of real
 #: pieces: Suzanne's eyes, open at the back, and a wavy drape).
 MAX_OPENING = 0.75
-
-
-def exact_weld(positions):
-    """(v,) int64: vertices at exactly the same position share an index (imported meshes split
-    vertices along UV seams and hard edges; the piece is still one).
-
-    One sort of a 64-bit hash of the coordinates' bits (a sort of rows would
-    be three times slower); equal hashes of different positions, vanishingly
-    rare, would only leave two vertices apart.
-    """
-    positions = np.ascontiguousarray(np.asarray(positions, dtype=np.float64).reshape(-1, 3) + 0.0)  # -0.0 -> 0.0
-    count = len(positions)
-    if not count:
-        return np.zeros(0, dtype=np.int64)
-    bits = positions.view(np.uint64)
-    key = _mix(_mix(_mix(bits[:, 0]) ^ bits[:, 1]) ^ bits[:, 2])
-    order = np.argsort(key, kind="stable")
-    ordered = positions[order]
-    new = np.ones(count, dtype=bool)
-    new[1:] = (key[order][1:] != key[order][:-1]) | (ordered[1:] != ordered[:-1]).any(axis=1)
-    welded = np.empty(count, dtype=np.int64)
-    welded[order] = np.cumsum(new) - 1
-    return welded
-
-
-def _mix(value):
-    """A 64-bit mixing function (splitmix64's finaliser): every input bit moves every output bit, so
-    coordinates whose low bits are all zero (0.5, 2.0) still hash apart."""
-    value = (value ^ (value >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-    value = (value ^ (value >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-    return value ^ (value >> np.uint64(31))
 
 
 def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):

@@ -12,7 +12,7 @@ from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.graph import Adjacency, sort_order
-from seamless_ao.core.mesh import sanitized_normals
+from seamless_ao.core.mesh import sanitized_normals, weld_vertices
 from seamless_ao.core.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
 from seamless_ao.core.geometry2d import segment_distance, triangle_angles
 from seamless_ao.core.packing import SMALL_TEXELS, density_filling
@@ -338,3 +338,50 @@ def test_sample_repeat_hits_texel_centres_blends_between_them_and_wraps():
     assert np.isclose(sample_repeat(values, between), (values[1, 2] + values[1, 3]) / 2)
     edge = np.array([0.0, uv[2, 0, 1]])                                                  # u = 0: half way round
     assert np.isclose(sample_repeat(values, edge), (values[2, 0] + values[2, 5]) / 2)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_weld_vertices_joins_exactly_the_vertices_that_share_a_cell_of_a_shifted_grid(seed):
+    """Against the rule the docstring states, pair by pair: two vertices of one group weld when some grid
+    of cells ``tolerance`` wide, shifted by 0 or half a cell on each axis, holds both, and chains weld;
+    indices numbered in order of first occurrence.  Exact repeats, near repeats, walls that share a
+    coordinate, groups with tolerances of their own."""
+    rng = np.random.default_rng(seed)
+    base = rng.uniform(0.0, 1.0, (300, 3))
+    base[:60, 0] = 0.25                                                # a wall: one x for many vertices
+    base[60:100, 2] = 0.75                                             # a floor
+    tolerance_of_group = np.array([1e-3, 4e-3, 2e-4])
+    near = base[rng.integers(0, 300, 250)] + rng.uniform(-6e-4, 6e-4, (250, 3))
+    positions = np.concatenate([base, base[rng.integers(0, 300, 100)], near])     # exact repeats too
+    positions = positions[rng.permutation(len(positions))]
+    groups = rng.integers(0, 3, len(positions))
+    groups[:] = np.where(rng.random(len(positions)) < 0.7, 0, groups)
+    tolerance = tolerance_of_group[groups]
+    welded = weld_vertices(positions, tolerance, groups)
+
+    low = np.array([positions[groups == g].min(axis=0) for g in range(3)])
+    cell = (positions - low[groups]) / tolerance[:, None]
+    count = len(positions)
+    parent = list(range(count))
+
+    def root(x):
+        while parent[x] != x:
+            x = parent[x]
+        return x
+
+    a, b = np.triu_indices(count, 1)
+    same_group = groups[a] == groups[b]
+    for shift in np.ndindex(2, 2, 2):
+        index = np.floor(cell + 0.5 * np.array(shift))
+        shared = same_group & (index[a] == index[b]).all(axis=1)
+        for x, y in zip(a[shared], b[shared]):
+            x, y = root(x), root(y)
+            if x != y:
+                parent[max(x, y)] = min(x, y)
+    roots = [root(x) for x in range(count)]
+    numbering = {}
+    expected = [numbering.setdefault(r, len(numbering)) for r in roots]
+    assert welded.tolist() == expected
+    assert count - len(numbering) > 150                                # plenty did weld
+    within_half = same_group & (np.abs(positions[a] - positions[b]) <= 0.5 * tolerance[a, None]).all(axis=1)
+    assert (welded[a[within_half]] == welded[b[within_half]]).all()
