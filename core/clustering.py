@@ -171,7 +171,7 @@ def smoothed_face_normals(mesh, edges, rounds=NORMAL_SMOOTHING):
         scatter_rows(np.add, summed, edges[:, 1], weighted[edges[:, 0]])
         weighted = summed
     length = np.linalg.norm(weighted, axis=1, keepdims=True)
-    return np.divide(weighted, length, out=mesh.face_normal, where=length > 0)
+    return np.divide(weighted, length, out=mesh.face_normal.copy(), where=length > 0)
 
 
 def cluster_faces(mesh, topology, compare_angle=60.0):

@@ -11,7 +11,7 @@ import numpy as np
 from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
 from .geometry2d import (barycentric_2d, corner_max, corner_min, line_crossing, segment_distance, separated,
                          triangle_angles)
-from .graph import sort_order, unique_pairs, unique_rows
+from .graph import index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
@@ -282,22 +282,24 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     for _, members in _overwound_fans(uv, group, welded_triangles, live, fan_vertices):
         found.append(members[None, :])
 
-    # 3. Sides shared by 3+ chart triangles: two of them on the same side overlap.
-    for start, count in zip(starts[:-1][uses > 2], uses[uses > 2]):
-        members = tri[start:start + count]
-        sides = corner[start:start + count]
-        edge_a = uv[members[0], sides[0]]
-        edge_b = uv[members[0], (sides[0] + 1) % 3]
+    # 3. Sides shared by 3+ chart triangles: two of them on the same side overlap.  All such pairs of all
+    #    these sides at once: a non-manifold chart (an interior's touching boxes) has thousands.
+    shared_starts, shared_uses = starts[:-1][uses > 2], uses[uses > 2]
+    if len(shared_starts):
+        pairs = pairs_within_groups(np.concatenate([[0], np.cumsum(shared_uses)]))
+        lead = np.repeat(shared_starts, shared_uses)         # each side's first member gives the edge's direction
+        position = lead + index_in_runs(shared_uses)
+        members, sides = tri[position], corner[position]
+        edge_a = uv[tri[lead], corner[lead]]
+        edge_b = uv[tri[lead], (corner[lead] + 1) % 3]
         third = uv[members, (sides + 2) % 3]
         direction = edge_b - edge_a
-        side = np.sign(direction[0] * (third[:, 1] - edge_a[1]) - direction[1] * (third[:, 0] - edge_a[0]))
-        for i in range(count):
-            for j in range(i + 1, count):
-                if side[i] != side[j] or triangle_face[members[i]] == triangle_face[members[j]]:
-                    continue
-                one, two = members[[i]], members[[j]]
-                tolerance = max(depth_tolerance[members[i]], depth_tolerance[members[j]])
-                if overlap_depth_gap(uv[one], depth[one], uv[two], depth[two])[0] > tolerance:
-                    found.append(np.array([[members[i], members[j]]], dtype=np.int64))
+        side = np.sign(direction[:, 0] * (third[:, 1] - edge_a[:, 1]) - direction[:, 1] * (third[:, 0] - edge_a[:, 0]))
+        one, two = members[pairs[:, 0]], members[pairs[:, 1]]
+        same_side = (side[pairs[:, 0]] == side[pairs[:, 1]]) & (triangle_face[one] != triangle_face[two])
+        one, two = one[same_side], two[same_side]
+        tolerance = np.maximum(depth_tolerance[one], depth_tolerance[two])
+        folded = overlap_depth_gap(uv[one], depth[one], uv[two], depth[two]) > tolerance
+        found.append(np.stack([one[folded], two[folded]], axis=1))
 
     return unique_pairs(np.concatenate(found))
