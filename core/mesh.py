@@ -278,7 +278,6 @@ def _mix(value):
     return value ^ (value >> np.uint64(31))
 
 
-
 #: Weights (magnitudes adding up to one) of the direction :func:`weld_vertices` sorts along first.
 _WELD_DIRECTION = np.array([0.5, 0.31, 0.19])
 
@@ -323,8 +322,10 @@ def weld_vertices(positions, tolerance, groups=None):
     # nothing (most vertices of most meshes).
     along = cell[lowest] @ _WELD_DIRECTION
     reach = 1.0 + 1e-12 * float(np.abs(along).max(initial=0.0))          # and what rounding may add
-    by_along = np.lexsort((along, groups[lowest]))
-    close = (groups[lowest][by_along][1:] == groups[lowest][by_along][:-1]) & (np.diff(along[by_along]) < reach)
+    lowest_group = groups[lowest]
+    by_along = np.lexsort((along, lowest_group))
+    sorted_group = lowest_group[by_along]
+    close = (sorted_group[1:] == sorted_group[:-1]) & (np.diff(along[by_along]) < reach)
     by_along = lowest[by_along]
     lonely = np.ones(count, dtype=bool)
     lonely[by_along[1:][close]] = False
