@@ -17,6 +17,11 @@ from .targets import PointTargets
 #: Target duration of one :meth:`AOJob.step` (seconds).
 STEP_SECONDS = 0.3
 
+#: Target duration of one step of rays handed to a caster's ``ambient_occlusion`` (each call has a
+#: fixed cost of its own: Cycles syncs the scene and builds its BVH), and the rays of its first step.
+BULK_STEP_SECONDS = 1.5
+BULK_FIRST_RAYS = 1 << 20
+
 
 #: No texel gets fewer rays than this when its share is cut.
 MIN_SHARED_RAYS = 4
@@ -31,6 +36,14 @@ class AOJob:
     :meth:`step` once per timer event (each batch is about ``batch_rays``
     rays, a fraction of a second), so it can draw progress and react to ESC
     between batches.
+
+    When every part's caster can shade whole texels itself (a method
+    ``ambient_occlusion(points, normals, geometric, samples, params) -> (k,)
+    open fraction``: the Blender side's Cycles caster), the pilot rays and the
+    creases are cast ray by ray as always (they tell the adaptive stop and
+    which texels are buried), and the remaining rays of each texel are left
+    to that method, in steps of about :data:`BULK_STEP_SECONDS`.  The pilot is
+    then a quarter of the rays even without the adaptive stop.
 
     With ``weighted`` rays, a texel gets rays in proportion to the blend
     weight it is shown with (:func:`.targets.ray_shares`): texels of one share
@@ -72,6 +85,8 @@ class AOJob:
         self.seconds = 0.0
         self.params = parts[0].params
         self.batch_rays = batch_rays
+        self.bulk = all(callable(getattr(part.caster, "ambient_occlusion", None)) for part in parts)
+        self.bulk_rays = BULK_FIRST_RAYS
         selected = targets.casting_order(np.flatnonzero(self.computed))
         halvings = np.zeros(len(selected), dtype=np.int64)
         if weighted:
@@ -84,7 +99,7 @@ class AOJob:
         for halving in np.unique(halvings):
             members = selected[halvings == halving]
             count = min(rays, max(MIN_SHARED_RAYS, rays >> int(halving)))
-            pilot = pilot_rays(count, self.params.adaptive)
+            pilot = pilot_rays(count, self.params.adaptive or self.bulk)
             self.ray_count[members] = count
             self.pilot_count[members] = pilot
             self.passes.append([members, np.arange(pilot), None])
@@ -108,6 +123,8 @@ class AOJob:
             return 1.0
         start = time.perf_counter()
         queue, rays, where = self.passes[0]
+        if self.bulk and where is None and not self.pilot:
+            return self._bulk_step(start)
         stop = self.position + max(1, self.batch_rays // max(len(rays), 1))
         batch = queue[self.position:stop]
         part_of = self.targets.part_of(batch)
@@ -132,6 +149,10 @@ class AOJob:
         if elapsed > 0:
             wanted = self.batch_rays * STEP_SECONDS / elapsed
             self.batch_rays = int(min(max(wanted, self.batch_rays / 4, 1 << 16), self.batch_rays * 4, 1 << 23))
+        return self._next(queue, start)
+
+    def _next(self, queue, start):
+        """After a batch of ``queue``: on to the next pass when it is done; the AO when all are."""
         if self.position >= len(queue):
             self.passes.pop(0)
             self.position = 0
@@ -144,6 +165,27 @@ class AOJob:
             self.ao[computed] = np.clip(1.0 - self.sums[computed] / self.ray_count[computed], 0.0, 1.0)
         self.seconds += time.perf_counter() - start
         return self.fraction
+
+    def _bulk_step(self, start):
+        """A batch of texels' remaining rays, shaded by their parts' casters' ``ambient_occlusion``."""
+        queue, rays, _ = self.passes[0]
+        samples = len(rays)
+        batch = queue[self.position:self.position + max(1, self.bulk_rays // max(samples, 1))]
+        part_of = self.targets.part_of(batch)
+        for part in np.unique(part_of):
+            selection = batch[part_of == part]
+            ray_part = self.parts[part]
+            points, normals, geometric = self._ray_geometry(ray_part, selection)
+            open_fraction = ray_part.caster.ambient_occlusion(points, normals, geometric, samples, ray_part.params)
+            self.sums[selection] += (1.0 - np.clip(np.nan_to_num(open_fraction), 0.0, 1.0)) * samples
+        self.rays_cast += len(batch) * samples
+        self.work_done += len(batch) * samples
+        self.position += len(batch)
+        elapsed = time.perf_counter() - start
+        if elapsed > 0:
+            wanted = self.bulk_rays * BULK_STEP_SECONDS / elapsed
+            self.bulk_rays = int(min(max(wanted, self.bulk_rays / 4, 1 << 16), self.bulk_rays * 4, 1 << 26))
+        return self._next(queue, start)
 
     def _queue_creases(self):
         """Find the buried texels; queue the rim of each buried region to be shaded again at the crease.

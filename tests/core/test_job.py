@@ -99,3 +99,49 @@ def test_texel_targets_give_every_selection_the_geometry_of_its_own_texels(torus
         for got, want in zip(targets.geometry(selection), expected):
             assert got.shape == want.shape and np.array_equal(got, want)
     assert (targets._geometry is not None) == kept
+
+
+class WholeTexelCaster(BVHCaster):
+    """A BVH caster that also shades whole texels (as the Blender side's Cycles caster does): every texel
+    it is asked for is open by ``open_fraction``; it records each call's texel count and samples."""
+
+    def __init__(self, positions, triangles, sealed=None, open_fraction=0.25):
+        super().__init__(positions, triangles, sealed)
+        self.open_fraction = open_fraction
+        self.rays_cast = 0
+        self.calls = []
+
+    def cast(self, origins, directions, max_distance):
+        self.rays_cast += len(origins)
+        return super().cast(origins, directions, max_distance)
+
+    def ambient_occlusion(self, points, normals, geometric, samples, params):
+        self.calls.append((len(points), samples))
+        return np.full(len(points), self.open_fraction)
+
+
+@pytest.mark.parametrize("adaptive", [False, True])
+def test_a_caster_that_shades_whole_texels_gets_every_ray_after_the_pilot(torus_layout, adaptive):
+    """Pilot rays (a quarter, with or without the adaptive stop) are cast ray by ray; the other rays of
+    every texel the pilot did not settle go to ``ambient_occlusion`` and count with their number of rays."""
+    layout = torus_layout
+    settings = BakeSettings(rays=64, adaptive=adaptive, auto_distance=False, max_distance=3.0)
+    part = ray_part(layout.mesh, np.eye(4), settings,
+                    lambda positions, triangles, sealed: WholeTexelCaster(positions, triangles, sealed))
+    caster = part.caster
+    job = AOJob(TexelTargets(layout), [part])
+    while not job.finished:
+        job.step()
+    computed = job.computed
+    handed = ~job.settled & computed
+    assert caster.calls and {samples for _, samples in caster.calls} == {48}
+    assert sum(count for count, _ in caster.calls) == handed.sum()
+    assert caster.rays_cast == 16 * computed.sum()          # the pilot only: a lone torus buries nothing
+    assert job.rays_cast == 16 * computed.sum() + 48 * handed.sum()
+    # each handed texel: its 16 pilot rays' occlusion plus 3/4 of the 48 others
+    ray_sums = job.sums[handed]
+    assert np.isfinite(job.ao).all() and (job.ao >= 0).all() and (job.ao <= 1).all()
+    assert (ray_sums >= 0.75 * 48 - 1e-9).all() and (ray_sums <= 16 + 0.75 * 48 + 1e-9).all()
+    assert np.allclose(job.ao[handed], 1.0 - ray_sums / 64)
+    if not adaptive:
+        assert not job.settled.any() and handed.sum() == computed.sum()
