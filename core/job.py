@@ -17,9 +17,10 @@ from .targets import PointTargets
 #: Target duration of one :meth:`AOJob.step` (seconds).
 STEP_SECONDS = 0.3
 
-#: Target duration of one step of rays handed to a caster's ``ambient_occlusion`` (each call has a
-#: fixed cost of its own: Cycles syncs the scene and builds its BVH), and the rays of its first step.
+#: Target duration of one step of rays handed to a caster's ``ambient_occlusion`` (seconds; each call
+#: has a fixed cost of its own: Cycles syncs the scene and builds its BVH).
 BULK_STEP_SECONDS = 1.5
+#: Rays of the first such step (the next ones are sized by how long it took).
 BULK_FIRST_RAYS = 1 << 20
 
 

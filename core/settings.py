@@ -43,6 +43,19 @@ SIZE_MODE_ITEMS = (
 CASTER_ITEMS = (
     ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (fastest)"),
     ("PYTHON_BVH", "Python BVH", "A Python loop over mathutils' BVHTree.ray_cast on one core (reference)"),
+    ("CYCLES", "Cycles", "Geometry Nodes for each texel's first rays and the creases, then Cycles' AO bake on all "
+     "cores for the rest (faster in closed rooms and on large scans; classic AO only: no falloff, full "
+     "hemisphere, cosine rays, back faces occlude, no ground plane)"),
+)
+
+#: What the Cycles caster cannot do: (setting, the value it needs, the sentence that says so).
+CYCLES_NEEDS = (
+    ("falloff", "NONE", "Cycles' AO has no falloff"),
+    ("cone_angle", 90.0, "Cycles casts over the whole hemisphere (Cone Angle 90°)"),
+    ("distribution", "COSINE", "Cycles spreads its rays by the cosine"),
+    ("ignore_backfaces", False, "Cycles' AO counts back faces"),
+    ("horizon_bias", 0.0, "Cycles has no horizon bias"),
+    ("use_ground_plane", False, "Cycles' AO sees no ground plane"),
 )
 
 SAVE_ITEMS = (
@@ -132,7 +145,8 @@ class BakeSettings(_Settings):
         "Other visible mesh objects of the scene within the maximum ray distance also occlude (contact shadows)")
     use_ground_plane: bool = _setting(
         False, "Ground Plane", "An infinite horizontal plane at the object's lowest point occludes")
-    ray_caster: str = _setting("GEOMETRY_NODES", "Ray Caster", "How rays are cast (same BVH, same result)",
+    ray_caster: str = _setting("GEOMETRY_NODES", "Ray Caster",
+                               "How rays are cast (Geometry Nodes and Python BVH give the same result)",
                                items=CASTER_ITEMS)
 
     # -- charts and image --------------------------------------------------------
@@ -167,6 +181,12 @@ class BakeSettings(_Settings):
             raise SeamlessAOError(
                 "max_distance must be greater than 0 (got {}); turn on auto_distance to derive it "
                 "from the object's size".format(self.max_distance))
+        if self.ray_caster == "CYCLES":
+            for name, needed, reason in CYCLES_NEEDS:
+                if getattr(self, name) != needed:
+                    raise SeamlessAOError(
+                        "The Cycles ray caster cannot bake with {} = {!r}: {}. Set it to {!r}, or choose the "
+                        "Geometry Nodes caster.".format(name, getattr(self, name), reason, needed))
         return self
 
 

@@ -166,5 +166,9 @@ def free_casters(casters):
 
 def caster_maker(settings):
     """What makes a bake's casters, ``(positions, triangles, sealed) -> caster``: the Geometry Nodes caster,
-    or core's Python loop over mathutils' BVH, as ``settings.ray_caster`` says."""
+    core's Python loop over mathutils' BVH, or the Cycles caster (:mod:`.cycles_caster`), as
+    ``settings.ray_caster`` says."""
+    if settings.ray_caster == "CYCLES":
+        from .cycles_caster import CyclesCaster          # it builds on NodesCaster: imported here, no cycle
+        return CyclesCaster
     return BVHCaster if settings.ray_caster == "PYTHON_BVH" else NodesCaster

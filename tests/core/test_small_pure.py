@@ -385,3 +385,13 @@ def test_weld_vertices_joins_exactly_the_vertices_that_share_a_cell_of_a_shifted
     assert count - len(numbering) > 150                                # plenty did weld
     within_half = same_group & (np.abs(positions[a] - positions[b]) <= 0.5 * tolerance[a, None]).all(axis=1)
     assert (welded[a[within_half]] == welded[b[within_half]]).all()
+
+
+@pytest.mark.parametrize("name, value", [("falloff", "LINEAR"), ("cone_angle", 60.0), ("distribution", "UNIFORM"),
+                                         ("ignore_backfaces", True), ("horizon_bias", 5.0),
+                                         ("use_ground_plane", True)])
+def test_the_cycles_caster_refuses_by_name_what_cycles_ao_cannot_do(name, value):
+    assert BakeSettings.from_kwargs(ray_caster="CYCLES").ray_caster == "CYCLES"
+    BakeSettings.from_kwargs(**{name: value})                          # fine with the Geometry Nodes caster
+    with pytest.raises(SeamlessAOError, match="The Cycles ray caster cannot bake with {} = ".format(name)):
+        BakeSettings.from_kwargs(ray_caster="CYCLES", **{name: value})

@@ -1,0 +1,161 @@
+"""The Cycles ray caster: the Geometry Nodes caster, plus Cycles' AO bake for the bulk of each texel's rays.
+
+Blender's Raycast node finds the nearest hit of every ray; AO only asks
+whether a ray meets anything, which Cycles (Embree) answers faster, most of
+all in closed rooms.  Cycles casts no given rays, but it bakes AO into an
+image: :meth:`CyclesCaster.ambient_occlusion` makes a mesh of one tiny
+triangle per texel (at the texel's ray origin, facing its geometric normal,
+the texel's shading normal as its custom normal, a UV triangle around a
+pixel of its own), invisible to every ray, and bakes Cycles' AO of it into a
+float image in the caster's temporary scene, where the occluder is the same
+mesh the Raycast node sees.  Each texel's pixel is its open fraction.
+
+:class:`...core.job.AOJob` still casts each texel's pilot rays and the
+creases with the Raycast node (they say which texels stop early and which are
+buried inside another piece, which Cycles' AO cannot say) and hands only the
+remaining rays to Cycles.  The settings Cycles' AO cannot follow (falloff,
+cone, ground plane, back faces) are refused by :class:`...core.settings.BakeSettings`.
+Everything is made in the temporary scene and removed with the caster; the
+user's scenes and render settings are not touched.
+"""
+
+import bpy
+import numpy as np
+
+from ...core.errors import SeamlessAOError
+from ...core.keys import TEMP_PREFIX
+from .casters import NodesCaster
+
+#: Half-size of each texel's triangle, relative to the ray origin offset (far below a texel, and the
+#: triangle is invisible to rays anyway).
+TRIANGLE_SIZE = 0.5
+#: Width of the image the texels are baked into (one pixel per texel, row by row).
+IMAGE_WIDTH = 2048
+#: Ray kinds the texel mesh is hidden from: it must never occlude.
+HIDDEN_FROM = ("visible_diffuse", "visible_glossy", "visible_transmission",
+               "visible_volume_scatter", "visible_shadow")
+
+
+def texel_triangles(origins, normals, geometric, size):
+    """One small triangle per texel, in the plane of its geometric normal, wound to face it.
+
+    Parameters
+    ----------
+    origins, normals, geometric : (k, 3) float64, ray space; ``geometric`` unit length
+    size : float, the triangles' half-size (ray space units)
+
+    Returns
+    -------
+    corners : (k, 3, 3) float64
+    """
+    helper = np.where(np.abs(geometric[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    first = np.cross(geometric, helper)
+    first /= np.maximum(np.sqrt((first * first).sum(axis=1)), 1e-300)[:, None]
+    second = np.cross(geometric, first)                  # first, second, geometric: right-handed
+    return np.stack([origins - size * (first + 0.5 * second), origins + size * (first - 0.5 * second),
+                     origins + size * second], axis=1)
+
+
+def pixel_uv(count, width):
+    """UV triangles (k, 3, 2) around the centres of pixels 0..count-1 of a ``width``-wide image, row by row,
+    and the image's height."""
+    height = max(1, -(-count // width))
+    index = np.arange(count)
+    centre = np.stack([index % width, index // width], axis=1) + 0.5
+    uv = centre[:, None, :] + np.array([[-0.45, -0.3], [0.45, -0.3], [0.0, 0.45]])
+    return uv / np.array([width, height], dtype=np.float64), height
+
+
+class CyclesCaster(NodesCaster):
+    """:class:`.casters.NodesCaster` whose ``ambient_occlusion`` bakes Cycles' AO at given texels."""
+
+    name = "cycles"
+
+    def ambient_occlusion(self, points, normals, geometric, samples, params):
+        """Cycles' AO of ``samples`` rays at each point (k, 3), ray space: the open fraction (k,) in [0, 1].
+
+        The ray origin is the one :func:`...core.ao.occlusion_sums` casts from:
+        the point lifted along the geometric normal, turned to the shading
+        normal's side.  The maximum distance is ``params.max_distance``.
+        """
+        count = len(points)
+        if not count:
+            return np.zeros(0)
+        if not hasattr(self.scene, "cycles"):
+            raise SeamlessAOError("The Cycles ray caster needs the Cycles render engine, which is not enabled "
+                                  "in this Blender; enable it, or choose the Geometry Nodes caster.")
+        side = np.where((geometric * normals).sum(axis=1) < 0.0, -1.0, 1.0)
+        geometric = geometric * side[:, None]
+        origins = points + params.offset * geometric
+        corners = texel_triangles(origins, normals, geometric, TRIANGLE_SIZE * params.offset)
+        uv, height = pixel_uv(count, IMAGE_WIDTH)
+        made = []
+        try:
+            mesh = _keep(made, bpy.data.meshes.new(TEMP_PREFIX + "texels"))
+            mesh.vertices.add(3 * count)
+            mesh.vertices.foreach_set("co", corners.astype(np.float32).ravel())
+            mesh.loops.add(3 * count)
+            mesh.loops.foreach_set("vertex_index", np.arange(3 * count, dtype=np.int32))
+            mesh.polygons.add(count)
+            mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * count, 3, dtype=np.int32))
+            mesh.uv_layers.new(name="texels").data.foreach_set("uv", uv.astype(np.float32).ravel())
+            mesh.update()
+            mesh.polygons.foreach_set("use_smooth", np.ones(count, dtype=bool))
+            mesh.normals_split_custom_set_from_vertices(np.repeat(normals, 3, axis=0).astype(np.float32))
+            image = _keep(made, bpy.data.images.new(TEMP_PREFIX + "texels", IMAGE_WIDTH, height, alpha=False,
+                                                     float_buffer=True))
+            image.colorspace_settings.name = "Non-Color"
+            material = _keep(made, bpy.data.materials.new(TEMP_PREFIX + "texels"))
+            if material.node_tree is None:
+                material.use_nodes = True
+            # No surface shader at all: Cycles would evaluate a Principled BSDF at every sample (2-3x
+            # the time of the AO ray itself); the AO needs only the mesh's normal.
+            material.node_tree.nodes.clear()
+            node = material.node_tree.nodes.new("ShaderNodeTexImage")
+            node.image = image
+            material.node_tree.nodes.active = node
+            mesh.materials.append(material)
+            texels = _keep(made, bpy.data.objects.new(TEMP_PREFIX + "texels", mesh))
+            for name in HIDDEN_FROM:
+                setattr(texels, name, False)
+            self.scene.collection.objects.link(texels)
+            self._set_up_cycles(samples, params)
+            view_layer = self.scene.view_layers[0]
+            with bpy.context.temp_override(scene=self.scene, view_layer=view_layer, active_object=texels,
+                                           object=texels, selected_objects=[texels],
+                                           selected_editable_objects=[texels]):
+                result = bpy.ops.object.bake(type="AO", margin=0, use_clear=True, target="IMAGE_TEXTURES")
+            if "FINISHED" not in result:
+                raise SeamlessAOError("Cycles did not bake the AO ({}); choose the Geometry Nodes caster."
+                                      .format(", ".join(sorted(result))))
+            pixels = np.empty(IMAGE_WIDTH * height * 4, dtype=np.float32)
+            image.pixels.foreach_get(pixels)
+            return pixels.reshape(-1, 4)[:count, 0].astype(np.float64)
+        except RuntimeError as error:                  # what bpy.ops raises with Cycles' own message
+            raise SeamlessAOError("Cycles could not bake the AO: {}".format(str(error).strip())) from error
+        finally:
+            if made:
+                bpy.data.batch_remove(made)
+
+    def _set_up_cycles(self, samples, params):
+        """The temporary scene's render settings for a plain AO bake (only this scene is changed)."""
+        scene = self.scene
+        self.occluder.hide_render = False              # Cycles must see it (the Raycast node reads it either way)
+        scene.render.engine = "CYCLES"
+        if scene.world is None:
+            scene.world = self._keep(bpy.data.worlds.new(TEMP_PREFIX + "world"))
+        scene.world.light_settings.distance = float(params.max_distance)
+        cycles = scene.cycles
+        cycles.device = "CPU"
+        cycles.samples = int(samples)
+        cycles.seed = int(params.seed) & 0x7FFFFFFF
+        cycles.use_animated_seed = False
+        cycles.use_denoising = False
+        cycles.use_adaptive_sampling = False
+        cycles.max_bounces = 0
+        cycles.diffuse_bounces = 0
+
+
+def _keep(made, datablock):
+    made.append(datablock)
+    return datablock

@@ -1,0 +1,99 @@
+"""The Cycles ray caster (operators/adapters/cycles_caster.py): Cycles' AO at given points against a closed
+form, and a whole bake against the Geometry Nodes caster's."""
+
+import numpy as np
+import pytest
+
+from blender_checks import image_array
+from blender_scenes import suzanne
+from seamless_ao.core.rays import AOParams
+from seamless_ao.operators.adapters.cycles_caster import CyclesCaster
+
+
+@pytest.mark.parametrize("reach", [2.0, 4.0])
+def test_cycles_ao_under_a_ceiling_is_the_closed_form(fresh_scene, reach):
+    """Points on z = 0 facing up under a wide ceiling at z = 1: a cosine-distributed ray meets it within
+    ``reach`` when cos(theta) >= 1 / reach, which a fraction 1 - 1 / reach² of them do, so the open
+    fraction is 1 / reach².  Points facing down see nothing: open 1."""
+    ceiling = np.array([[-60.0, -60.0, 1.0], [60.0, -60.0, 1.0], [60.0, 60.0, 1.0], [-60.0, 60.0, 1.0]])
+    caster = CyclesCaster(ceiling, np.array([[0, 2, 1], [0, 3, 2]]))
+    try:
+        rng = np.random.default_rng(0)
+        count = 600
+        points = np.column_stack([rng.uniform(-1.0, 1.0, (count, 2)), np.zeros(count)])
+        up = np.tile([0.0, 0.0, 1.0], (count, 1))
+        down = -up
+        normals = np.concatenate([up[: count // 2], down[count // 2:]])
+        params = AOParams(rays=256, max_distance=reach, offset=1e-4)
+        open_fraction = caster.ambient_occlusion(points, normals, normals, 256, params)
+    finally:
+        caster.free()
+    assert open_fraction.shape == (count,) and np.isfinite(open_fraction).all()
+    expected = 1.0 / reach**2
+    under = open_fraction[: count // 2]
+    # binomial noise of one point: sqrt(p (1 - p) / 256) <= 0.031; of the mean of 300 points: <= 0.002
+    assert abs(under.mean() - expected) < 0.01, (under.mean(), expected)
+    assert np.abs(under - expected).max() < 0.2
+    assert np.allclose(open_fraction[count // 2:], 1.0)
+
+
+def test_a_cycles_bake_shows_the_geometry_nodes_bake_and_leaves_nothing_behind(addon, fresh_scene):
+    """Suzanne on a floor, baked with each caster: the same AO within the rays' noise, every datablock the
+    Cycles caster made removed, and the scene's render engine and world as they were."""
+    import bpy
+
+    from seamless_ao.core.keys import TEMP_PREFIX
+
+    head = suzanne(1)
+    bpy.ops.mesh.primitive_plane_add(size=4.0, location=(0.0, 0.0, -0.8))
+    floor = bpy.context.active_object
+    scene = bpy.context.scene
+    engine, world = scene.render.engine, scene.world
+    counts = {kind: len(getattr(bpy.data, kind)) for kind in ("scenes", "objects", "meshes", "images", "materials",
+                                                              "worlds", "node_groups")}
+    images = {}
+    for caster in ("GEOMETRY_NODES", "CYCLES"):
+        report = addon.bake([head, floor], image_size=256, rays=64, ray_caster=caster, denoise=False)
+        images[caster] = image_array(bpy.data.images[report.image]).copy()
+    assert scene.render.engine == engine and scene.world == world
+    assert not [d.name for kind in counts for d in getattr(bpy.data, kind) if d.name.startswith(TEMP_PREFIX)]
+    after = {kind: len(getattr(bpy.data, kind)) for kind in counts}
+    # what the bake itself writes: its image and node group (and materials for objects that had none)
+    assert after == dict(counts, images=counts["images"] + 1, node_groups=counts["node_groups"] + 1,
+                         materials=after["materials"]), (counts, after)
+    nodes, cycles = images["GEOMETRY_NODES"], images["CYCLES"]
+    shown = (nodes > 0) | (cycles > 0)
+    assert shown.sum() > 10000
+    gap = cycles[shown] - nodes[shown]
+    # 64 rays: a texel's noise is about 0.06 at AO 1/2; the two casters' means agree far closer
+    assert abs(gap.mean()) < 0.01, gap.mean()
+    assert np.sqrt((gap * gap).mean()) < 0.08
+    assert np.isfinite(cycles).all() and cycles.min() >= 0.0 and cycles.max() <= 1.0
+
+
+def test_a_cancelled_cycles_bake_leaves_nothing_behind(addon, fresh_scene):
+    """Cancelled between two of Cycles' steps (after the pilot rays): no temporary datablock is left, and
+    the object has none of the bake's UV maps."""
+    import bpy
+
+    from seamless_ao.core import job
+    from seamless_ao.core.errors import BakeCancelled
+    from seamless_ao.core.keys import TEMP_PREFIX
+
+    head = suzanne(2)
+    steps = []
+    kept = job.BULK_FIRST_RAYS
+    job.BULK_FIRST_RAYS = 1 << 16                        # many small steps
+    try:
+        addon.bake([head], image_size=256, rays=64, ray_caster="CYCLES",
+                   should_cancel=lambda: len(steps) >= 3,            # the pilot's step, then two of Cycles'
+                   progress=lambda fraction, message: steps.append(message) if message.startswith("Casting") else None)
+    except BakeCancelled:
+        pass
+    else:
+        raise AssertionError("the bake was not cancelled")
+    finally:
+        job.BULK_FIRST_RAYS = kept
+    assert not [d.name for kind in ("scenes", "objects", "meshes", "images", "materials", "worlds", "node_groups")
+                for d in getattr(bpy.data, kind) if d.name.startswith(TEMP_PREFIX)]
+    assert not [layer.name for layer in head.data.uv_layers if layer.name.startswith("AO_")]
