@@ -141,19 +141,22 @@ class AOJob:
             self.sums[selection] += sums
             self.behind[selection] += behind
             self.cast_count[selection] += len(rays)
-        self.rays_cast += len(batch) * len(rays)
-        self.work_done += len(batch) * len(rays)
-        self.position += len(batch)
         # Aim at STEP_SECONDS per step, so a caller polling between steps
         # (ESC in the UI) never waits long, without a step per thousand rays.
+        self.batch_rays = self._next(queue, len(batch), len(rays), start, self.batch_rays, STEP_SECONDS, 1 << 23)
+        return self.fraction
+
+    def _next(self, queue, texels, rays, start, batch_rays, seconds, most):
+        """After a batch of ``texels`` x ``rays`` of ``queue``: on to the next pass when it is done, the AO
+        when all are; returns the rays of the next batch (``batch_rays`` scaled to take about ``seconds``,
+        at most 4x up or down and within 2^16..``most``)."""
+        self.rays_cast += texels * rays
+        self.work_done += texels * rays
+        self.position += texels
         elapsed = time.perf_counter() - start
         if elapsed > 0:
-            wanted = self.batch_rays * STEP_SECONDS / elapsed
-            self.batch_rays = int(min(max(wanted, self.batch_rays / 4, 1 << 16), self.batch_rays * 4, 1 << 23))
-        return self._next(queue, start)
-
-    def _next(self, queue, start):
-        """After a batch of ``queue``: on to the next pass when it is done; the AO when all are."""
+            wanted = batch_rays * seconds / elapsed
+            batch_rays = int(min(max(wanted, batch_rays / 4, 1 << 16), batch_rays * 4, most))
         if self.position >= len(queue):
             self.passes.pop(0)
             self.position = 0
@@ -165,7 +168,7 @@ class AOJob:
             computed = self.computed
             self.ao[computed] = np.clip(1.0 - self.sums[computed] / self.ray_count[computed], 0.0, 1.0)
         self.seconds += time.perf_counter() - start
-        return self.fraction
+        return batch_rays
 
     def _bulk_step(self, start):
         """A batch of texels' remaining rays, shaded by their parts' casters' ``ambient_occlusion``."""
@@ -179,14 +182,8 @@ class AOJob:
             points, normals, geometric = self._ray_geometry(ray_part, selection)
             open_fraction = ray_part.caster.ambient_occlusion(points, normals, geometric, samples, ray_part.params)
             self.sums[selection] += (1.0 - np.clip(np.nan_to_num(open_fraction), 0.0, 1.0)) * samples
-        self.rays_cast += len(batch) * samples
-        self.work_done += len(batch) * samples
-        self.position += len(batch)
-        elapsed = time.perf_counter() - start
-        if elapsed > 0:
-            wanted = self.bulk_rays * BULK_STEP_SECONDS / elapsed
-            self.bulk_rays = int(min(max(wanted, self.bulk_rays / 4, 1 << 16), self.bulk_rays * 4, 1 << 26))
-        return self._next(queue, start)
+        self.bulk_rays = self._next(queue, len(batch), samples, start, self.bulk_rays, BULK_STEP_SECONDS, 1 << 26)
+        return self.fraction
 
     def _queue_creases(self):
         """Find the buried texels; queue the rim of each buried region to be shaded again at the crease.
