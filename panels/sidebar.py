@@ -2,7 +2,11 @@
 
 import bpy
 
+from ..core.settings import CYCLES_NEEDS
 from ..operators.ui.poll import stale_bakes
+
+#: Settings the Cycles ray caster cannot follow: drawn inactive while it is chosen.
+NOT_FOR_CYCLES = frozenset(name for name, _, _ in CYCLES_NEEDS)
 
 
 class SidebarPanel:
@@ -28,7 +32,15 @@ class SubPanel(SidebarPanel):
     def draw(self, context):
         column, settings = self.settings_column(context)
         for name in self.settings:
-            column.prop(settings, name)
+            self.setting_row(column, settings, name)
+
+    @staticmethod
+    def setting_row(column, settings, name):
+        """One setting; greyed out (still editable: the bake then says why it refuses) where the chosen ray
+        caster cannot follow it."""
+        row = column.row()
+        row.active = not (settings.ray_caster == "CYCLES" and name in NOT_FOR_CYCLES)
+        row.prop(settings, name)
 
 
 class VIEW3D_PT_seamless_ao(SidebarPanel, bpy.types.Panel):
@@ -77,7 +89,7 @@ class VIEW3D_PT_seamless_ao_rays(SubPanel, bpy.types.Panel):
         row.enabled = not settings.auto_distance
         row.prop(settings, "max_distance")
         for name in ("cone_angle", "falloff", "distribution", "adaptive", "weighted_rays", "denoise", "seed"):
-            column.prop(settings, name)
+            self.setting_row(column, settings, name)
 
 
 class VIEW3D_PT_seamless_ao_occluders(SubPanel, bpy.types.Panel):
