@@ -22,6 +22,9 @@ STEP_SECONDS = 0.3
 BULK_STEP_SECONDS = 1.5
 #: Rays of the first such step (the next ones are sized by how long it took).
 BULK_FIRST_RAYS = 1 << 20
+#: Pilot rays of each texel when such a caster takes the rest: from inside a closed piece every ray
+#: meets its back faces, so a few tell the buried texels (core/ao.py's ``buried``).
+BULK_PILOT_RAYS = 8
 
 
 #: No texel gets fewer rays than this when its share is cut.
@@ -40,11 +43,12 @@ class AOJob:
 
     When every part's caster can shade whole texels itself (a method
     ``ambient_occlusion(points, normals, geometric, samples, params) -> (k,)
-    open fraction``: the Blender side's Cycles caster), the pilot rays and the
-    creases are cast ray by ray as always (they tell the adaptive stop and
-    which texels are buried), and the remaining rays of each texel are left
-    to that method, in steps of about :data:`BULK_STEP_SECONDS`.  The pilot is
-    then a quarter of the rays even without the adaptive stop.
+    open fraction``: the Blender side's Cycles caster), each texel's first
+    :data:`BULK_PILOT_RAYS` rays and the creases are cast ray by ray (they
+    tell which texels are buried), and the remaining rays of every texel are
+    left to that method, in steps of about :data:`BULK_STEP_SECONDS`.  There
+    is no adaptive stop then: such a caster's rays cost a fraction of the
+    pilot's.
 
     With ``weighted`` rays, a texel gets rays in proportion to the blend
     weight it is shown with (:func:`.targets.ray_shares`): texels of one share
@@ -100,7 +104,7 @@ class AOJob:
         for halving in np.unique(halvings):
             members = selected[halvings == halving]
             count = min(rays, max(MIN_SHARED_RAYS, rays >> int(halving)))
-            pilot = pilot_rays(count, self.params.adaptive or self.bulk)
+            pilot = min(count, BULK_PILOT_RAYS) if self.bulk else pilot_rays(count, self.params.adaptive)
             self.ray_count[members] = count
             self.pilot_count[members] = pilot
             self.passes.append([members, np.arange(pilot), None])
@@ -232,9 +236,12 @@ class AOJob:
         selection = np.concatenate([members for members, _ in self.remaining])
         sums = self.sums[selection]
         ask = self.targets.neighbours_agree
-        decided = settle_pilot(sums, self.params, self.pilot_count[selection],
-                               neighbours=None if ask is None else (lambda code: ask(selection, code)),
-                               rays=self.ray_count[selection])
+        if self.bulk:
+            decided = np.zeros(len(selection), dtype=bool)
+        else:
+            decided = settle_pilot(sums, self.params, self.pilot_count[selection],
+                                   neighbours=None if ask is None else (lambda code: ask(selection, code)),
+                                   rays=self.ray_count[selection])
         self.sums[selection] = sums
         self.settled[selection[decided]] = True
         for members, rays in self.remaining:

@@ -5,8 +5,8 @@ import bpy
 from ..core.settings import CYCLES_NEEDS
 from ..operators.ui.poll import stale_bakes
 
-#: Settings the Cycles ray caster cannot follow: drawn inactive while it is chosen.
-NOT_FOR_CYCLES = frozenset(name for name, _, _ in CYCLES_NEEDS)
+#: Settings the Cycles ray caster cannot follow or does not use: drawn inactive while it is chosen.
+NOT_FOR_CYCLES = frozenset([name for name, _, _ in CYCLES_NEEDS] + ["adaptive"])
 
 
 class SidebarPanel:

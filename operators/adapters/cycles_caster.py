@@ -10,10 +10,10 @@ pixel of its own), invisible to every ray, and bakes Cycles' AO of it into a
 float image in the caster's temporary scene, where the occluder is the same
 mesh the Raycast node sees.  Each texel's pixel is its open fraction.
 
-:class:`...core.job.AOJob` still casts each texel's pilot rays and the
-creases with the Raycast node (they say which texels stop early and which are
-buried inside another piece, which Cycles' AO cannot say) and hands only the
-remaining rays to Cycles.  The settings Cycles' AO cannot follow (falloff,
+:class:`...core.job.AOJob` still casts each texel's first few rays and the
+creases with the Raycast node (they say which texels are buried inside
+another piece, which Cycles' AO cannot say) and hands the remaining rays to
+Cycles.  The settings Cycles' AO cannot follow (falloff,
 cone, ground plane, back faces) are refused by :class:`...core.settings.BakeSettings`.
 Everything is made in the temporary scene and removed with the caster; the
 user's scenes and render settings are not touched.
@@ -108,8 +108,8 @@ class CyclesCaster(NodesCaster):
             material = _keep(made, bpy.data.materials.new(TEMP_PREFIX + "texels"))
             if material.node_tree is None:
                 material.use_nodes = True
-            # No surface shader at all: Cycles would evaluate a Principled BSDF at every sample (2-3x
-            # the time of the AO ray itself); the AO needs only the mesh's normal.
+            # No surface shader at all: Cycles would evaluate a Principled BSDF at every sample (it took
+            # 2-3x as long per sample with one); the AO needs only the mesh's normal.
             material.node_tree.nodes.clear()
             node = material.node_tree.nodes.new("ShaderNodeTexImage")
             node.image = image

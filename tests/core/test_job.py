@@ -5,7 +5,7 @@ import pytest
 
 import meshes
 from seamless_ao.core.blend import blend_weights
-from seamless_ao.core.job import MIN_SHARED_RAYS, AOJob
+from seamless_ao.core.job import BULK_PILOT_RAYS, MIN_SHARED_RAYS, AOJob
 from seamless_ao.core.mesh import TriangleMesh
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.raster import texel_geometry
@@ -122,8 +122,8 @@ class WholeTexelCaster(BVHCaster):
 
 @pytest.mark.parametrize("adaptive", [False, True])
 def test_a_caster_that_shades_whole_texels_gets_every_ray_after_the_pilot(torus_layout, adaptive):
-    """Pilot rays (a quarter, with or without the adaptive stop) are cast ray by ray; the other rays of
-    every texel the pilot did not settle go to ``ambient_occlusion`` and count with their number of rays."""
+    """The pilot rays (BULK_PILOT_RAYS, with or without the adaptive stop, which does not apply) are cast
+    ray by ray; the other rays of every texel go to ``ambient_occlusion`` and count with their number."""
     layout = torus_layout
     settings = BakeSettings(rays=64, adaptive=adaptive, auto_distance=False, max_distance=3.0)
     part = ray_part(layout.mesh, np.eye(4), settings,
@@ -133,15 +133,14 @@ def test_a_caster_that_shades_whole_texels_gets_every_ray_after_the_pilot(torus_
     while not job.finished:
         job.step()
     computed = job.computed
-    handed = ~job.settled & computed
-    assert caster.calls and {samples for _, samples in caster.calls} == {48}
-    assert sum(count for count, _ in caster.calls) == handed.sum()
-    assert caster.rays_cast == 16 * computed.sum()          # the pilot only: a lone torus buries nothing
-    assert job.rays_cast == 16 * computed.sum() + 48 * handed.sum()
-    # each handed texel: its 16 pilot rays' occlusion plus 3/4 of the 48 others
-    ray_sums = job.sums[handed]
+    pilot = BULK_PILOT_RAYS
+    assert caster.calls and {samples for _, samples in caster.calls} == {64 - pilot}
+    assert sum(count for count, _ in caster.calls) == computed.sum() and not job.settled.any()
+    assert caster.rays_cast == pilot * computed.sum()       # the pilot only: a lone torus buries nothing
+    assert job.rays_cast == 64 * computed.sum()
+    # each texel: its pilot rays' occlusion plus 3/4 of the others
+    ray_sums = job.sums[computed]
     assert np.isfinite(job.ao).all() and (job.ao >= 0).all() and (job.ao <= 1).all()
-    assert (ray_sums >= 0.75 * 48 - 1e-9).all() and (ray_sums <= 16 + 0.75 * 48 + 1e-9).all()
-    assert np.allclose(job.ao[handed], 1.0 - ray_sums / 64)
-    if not adaptive:
-        assert not job.settled.any() and handed.sum() == computed.sum()
+    assert (ray_sums >= 0.75 * (64 - pilot) - 1e-9).all() and (ray_sums <= pilot + 0.75 * (64 - pilot) + 1e-9).all()
+    assert (ray_sums > 0.75 * (64 - pilot) + 0.5).any()   # some pilot rays meet the torus' own ring
+    assert np.allclose(job.ao[computed], 1.0 - ray_sums / 64)
