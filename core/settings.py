@@ -41,7 +41,7 @@ SIZE_MODE_ITEMS = (
 )
 
 CASTER_ITEMS = (
-    ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (fastest)"),
+    ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (every setting)"),
     ("PYTHON_BVH", "Python BVH", "A Python loop over mathutils' BVHTree.ray_cast on one core (reference)"),
     ("CYCLES", "Cycles", "Geometry Nodes for each texel's first 8 rays and the creases, then Cycles' AO bake on all "
      "cores for the rest, with no adaptive stop (faster in closed rooms and on large scans; classic AO only: no "
