@@ -1,6 +1,7 @@
 """The Blender side of a bake's rays: a ray caster on Blender's Geometry Nodes Raycast node (multi-threaded),
-which core's :class:`~...core.rays.RayCaster` protocol describes, and :func:`caster_maker`, which picks it
-or core's ``BVHCaster`` for the settings.
+which core's :class:`~...core.rays.RayCaster` protocol describes; the Cycles caster, the same plus Cycles' AO
+bake at texels (:mod:`.cycles_caster`); and :func:`caster_maker`, which picks one of them or core's
+``BVHCaster`` for the settings.
 
 The rays of one batch become the vertices of a temporary point mesh with a
 ``ray_dir`` attribute; a node group casts them against a temporary occluder
@@ -18,6 +19,7 @@ import numpy as np
 
 from ...core.keys import TEMP_PREFIX
 from ...core.rays import BVHCaster
+from .cycles_caster import CyclesAmbientOcclusion
 
 
 
@@ -147,6 +149,13 @@ class NodesCaster:
         free_casters([self])
 
 
+class CyclesCaster(CyclesAmbientOcclusion, NodesCaster):
+    """The Cycles caster: :class:`NodesCaster` whose ``ambient_occlusion`` bakes Cycles' AO at given texels
+    (:mod:`.cycles_caster`), which :class:`...core.job.AOJob` hands all but the pilot rays to."""
+
+    name = "cycles"
+
+
 def free_casters(casters):
     """Remove the temporary datablocks of all ``casters`` in one ``bpy.data.batch_remove``: removing
     them one by one scans every datablock each time (31 ms each with 400 objects baked together)."""
@@ -169,6 +178,5 @@ def caster_maker(settings):
     core's Python loop over mathutils' BVH, or the Cycles caster (:mod:`.cycles_caster`), as
     ``settings.ray_caster`` says."""
     if settings.ray_caster == "CYCLES":
-        from .cycles_caster import CyclesCaster          # it builds on NodesCaster: imported here, no cycle
         return CyclesCaster
     return BVHCaster if settings.ray_caster == "PYTHON_BVH" else NodesCaster

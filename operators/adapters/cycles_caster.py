@@ -3,7 +3,7 @@
 Blender's Raycast node finds the nearest hit of every ray; AO only asks
 whether a ray meets anything, which Cycles (Embree) answers faster, most of
 all in closed rooms.  Cycles casts no given rays, but it bakes AO into an
-image: :meth:`CyclesCaster.ambient_occlusion` makes a mesh of one tiny
+image: :meth:`CyclesAmbientOcclusion.ambient_occlusion` makes a mesh of one tiny
 triangle per texel (at the texel's ray origin, facing its geometric normal,
 the texel's shading normal as its custom normal, a UV triangle around a
 pixel of its own), invisible to every ray, and bakes Cycles' AO of it into a
@@ -24,7 +24,6 @@ import numpy as np
 
 from ...core.errors import SeamlessAOError
 from ...core.keys import TEMP_PREFIX
-from .casters import NodesCaster
 
 #: Half-size of each texel's triangle, relative to the ray origin offset (far below a texel, and the
 #: triangle is invisible to rays anyway).
@@ -66,10 +65,10 @@ def pixel_uv(count, width):
     return uv / np.array([width, height], dtype=np.float64), height
 
 
-class CyclesCaster(NodesCaster):
-    """:class:`.casters.NodesCaster` whose ``ambient_occlusion`` bakes Cycles' AO at given texels."""
-
-    name = "cycles"
+class CyclesAmbientOcclusion:
+    """``ambient_occlusion``, Cycles' AO baked at given texels, for a caster with a temporary ``scene``, its
+    ``occluder`` object and ``_keep`` (datablocks removed with the caster): :class:`.casters.CyclesCaster`
+    is :class:`.casters.NodesCaster` with it."""
 
     def ambient_occlusion(self, points, normals, geometric, samples, params):
         """Cycles' AO of ``samples`` rays at each point (k, 3), ray space: the open fraction (k,) in [0, 1].

@@ -31,7 +31,7 @@ from seamless_ao.core.pipeline import bake_arrays
 from seamless_ao.core.raster import COVERED, texel_geometry
 from seamless_ao.core.rays import ORIGIN_OFFSET, AOParams
 from seamless_ao.operators.adapters.casters import NodesCaster
-from seamless_ao.operators.adapters.cycles_caster import CyclesCaster
+from seamless_ao.operators.adapters.casters import CyclesCaster
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 

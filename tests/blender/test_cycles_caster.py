@@ -7,7 +7,7 @@ import pytest
 from blender_checks import image_array
 from blender_scenes import suzanne
 from seamless_ao.core.rays import AOParams
-from seamless_ao.operators.adapters.cycles_caster import CyclesCaster
+from seamless_ao.operators.adapters.casters import CyclesCaster
 
 
 @pytest.mark.parametrize("reach", [2.0, 4.0])
