@@ -12,6 +12,7 @@ import numpy as np
 
 from .ao import buried, occlusion_sums, settle_pilot
 from .rays import RayPart, pilot_rays
+from .settings import BULK_PILOT_RAYS
 from .targets import PointTargets
 
 #: Target duration of one :meth:`AOJob.step` (seconds).
@@ -22,9 +23,6 @@ STEP_SECONDS = 0.3
 BULK_STEP_SECONDS = 1.5
 #: Rays of the first such step (the next ones are sized by how long it took).
 BULK_FIRST_RAYS = 1 << 20
-#: Pilot rays of each texel when such a caster takes the rest: from inside a closed piece every ray
-#: meets its back faces, so a few tell the buried texels (core/ao.py's ``buried``).
-BULK_PILOT_RAYS = 8
 
 
 #: No texel gets fewer rays than this when its share is cut.

@@ -40,12 +40,16 @@ SIZE_MODE_ITEMS = (
     ("DENSITY", "Texel Density", "Choose texels per scene unit; the image is made as large as needed"),
 )
 
+#: Pilot rays of each texel when a caster that bakes whole texels (Cycles) takes the rest: from inside a
+#: closed piece every ray meets its back faces, so a few tell the buried texels (core/ao.py's ``buried``).
+BULK_PILOT_RAYS = 8
+
 CASTER_ITEMS = (
     ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (every setting)"),
     ("PYTHON_BVH", "Python BVH", "A Python loop over mathutils' BVHTree.ray_cast on one core (reference)"),
-    ("CYCLES", "Cycles", "Geometry Nodes for each texel's first 8 rays and the creases, then Cycles' AO bake on all "
-     "cores for the rest, with no adaptive stop (faster in closed rooms and on large scans; classic AO only: no "
-     "falloff, full hemisphere, cosine rays, back faces occlude, no ground plane)"),
+    ("CYCLES", "Cycles", "Geometry Nodes for each texel's first {} rays and the creases, then Cycles' AO bake on "
+     "all cores for the rest, with no adaptive stop (faster in closed rooms and on large scans; classic AO only: "
+     "no falloff, full hemisphere, cosine rays, back faces occlude, no ground plane)".format(BULK_PILOT_RAYS)),
 )
 
 #: What the Cycles caster cannot do: (setting, the value it needs, the sentence that says so).

@@ -5,12 +5,12 @@ import pytest
 
 import meshes
 from seamless_ao.core.blend import blend_weights
-from seamless_ao.core.job import BULK_PILOT_RAYS, MIN_SHARED_RAYS, AOJob
+from seamless_ao.core.job import MIN_SHARED_RAYS, AOJob
 from seamless_ao.core.mesh import TriangleMesh
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.raster import texel_geometry
 from seamless_ao.core.rays import BVHCaster, ray_part
-from seamless_ao.core.settings import BakeSettings
+from seamless_ao.core.settings import BULK_PILOT_RAYS, BakeSettings
 from seamless_ao.core.targets import MAX_RAY_HALVINGS, TexelTargets, ray_shares
 
 
