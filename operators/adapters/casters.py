@@ -20,25 +20,7 @@ import numpy as np
 from ...core.keys import TEMP_PREFIX
 from ...core.rays import BVHCaster
 from .cycles_caster import CyclesAmbientOcclusion
-
-
-
-def mesh_from_triangles(name, positions, triangles):
-    """A new ``bpy.types.Mesh`` of triangles (fast: ``foreach_set``)."""
-    mesh = bpy.data.meshes.new(name)
-    positions = np.asarray(positions, dtype=np.float32).reshape(-1, 3)
-    triangles = np.asarray(triangles, dtype=np.int32).reshape(-1, 3)
-    mesh.vertices.add(len(positions))
-    mesh.attributes["position"].data.foreach_set("vector", positions.ravel())
-    mesh.loops.add(triangles.size)
-    if ".corner_vert" in mesh.attributes:            # a copy: loops' "vertex_index" goes loop by loop (35 ms per 750k)
-        mesh.attributes[".corner_vert"].data.foreach_set("value", triangles.ravel())
-    else:
-        mesh.loops.foreach_set("vertex_index", triangles.ravel())
-    mesh.polygons.add(len(triangles))
-    mesh.polygons.foreach_set("loop_start", np.arange(0, triangles.size, 3, dtype=np.int32))
-    mesh.update()
-    return mesh
+from .mesh_data import mesh_from_triangles
 
 
 class NodesCaster:

@@ -24,6 +24,7 @@ import numpy as np
 
 from ...core.errors import SeamlessAOError
 from ...core.keys import TEMP_PREFIX
+from .mesh_data import mesh_from_triangles
 
 #: Half-size of each texel's triangle, relative to the ray origin offset (far below a texel, and the
 #: triangle is invisible to rays anyway).
@@ -90,15 +91,9 @@ class CyclesAmbientOcclusion:
         uv, height = pixel_uv(count, IMAGE_WIDTH)
         made = []
         try:
-            mesh = _keep(made, bpy.data.meshes.new(TEMP_PREFIX + "texels"))
-            mesh.vertices.add(3 * count)
-            mesh.vertices.foreach_set("co", corners.astype(np.float32).ravel())
-            mesh.loops.add(3 * count)
-            mesh.loops.foreach_set("vertex_index", np.arange(3 * count, dtype=np.int32))
-            mesh.polygons.add(count)
-            mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * count, 3, dtype=np.int32))
+            mesh = _keep(made, mesh_from_triangles(TEMP_PREFIX + "texels", corners.reshape(-1, 3),
+                                                   np.arange(3 * count).reshape(-1, 3)))
             mesh.uv_layers.new(name="texels").data.foreach_set("uv", uv.astype(np.float32).ravel())
-            mesh.update()
             mesh.polygons.foreach_set("use_smooth", np.ones(count, dtype=bool))
             mesh.normals_split_custom_set_from_vertices(np.repeat(normals, 3, axis=0).astype(np.float32))
             image = _keep(made, bpy.data.images.new(TEMP_PREFIX + "texels", IMAGE_WIDTH, height, alpha=False,
