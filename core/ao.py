@@ -125,6 +125,25 @@ def cast_with_options(caster, origins, directions, params):
     return distance, behind
 
 
+def ray_origins(points, normals, geometric, offset):
+    """Where a texel's rays start: the point lifted by ``offset`` along its geometric normal, turned to the
+    shading normal's side (a texel on a face seen from behind casts from the side it is shaded on).
+
+    Parameters
+    ----------
+    points, normals, geometric : (k, 3) float64, ray space; ``geometric`` unit length
+    offset : float, ray space units
+
+    Returns
+    -------
+    origins : (k, 3) float64
+    geometric : (k, 3) float64, the geometric normal turned to the shading normal's side
+    """
+    side = np.where((geometric * normals).sum(axis=1) < 0.0, -1.0, 1.0)
+    geometric = geometric * side[:, None]
+    return points + offset * geometric, geometric
+
+
 def occlusion_sums(points, normals, geometric, texel_ids, ray_indices, params, caster, samples=texel_samples):
     """Summed occlusion of some rays (``ray_indices`` of the sequence) of some points, in ray space.
 
@@ -143,9 +162,7 @@ def occlusion_sums(points, normals, geometric, texel_ids, ray_indices, params, c
     """
     if not len(points) or not len(ray_indices):
         return np.zeros(len(points)), np.zeros(len(points), dtype=np.int64)
-    side = np.where((geometric * normals).sum(axis=1) < 0.0, -1.0, 1.0)
-    geometric = geometric * side[:, None]
-    origins = points + params.offset * geometric
+    origins, geometric = ray_origins(points, normals, geometric, params.offset)
     directions, elevation = ray_directions(normals, geometric, texel_ids, ray_indices, params, samples)
     count = len(ray_indices)
     start = np.repeat(origins, count, axis=0)

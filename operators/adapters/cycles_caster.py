@@ -22,6 +22,7 @@ user's scenes and render settings are not touched.
 import bpy
 import numpy as np
 
+from ...core.ao import ray_origins
 from ...core.errors import SeamlessAOError
 from ...core.keys import TEMP_PREFIX
 from .mesh_data import mesh_from_triangles
@@ -74,9 +75,8 @@ class CyclesAmbientOcclusion:
     def ambient_occlusion(self, points, normals, geometric, samples, params):
         """Cycles' AO of ``samples`` rays at each point (k, 3), ray space: the open fraction (k,) in [0, 1].
 
-        The ray origin is the one :func:`...core.ao.occlusion_sums` casts from:
-        the point lifted along the geometric normal, turned to the shading
-        normal's side.  The maximum distance is ``params.max_distance``.
+        The ray origin is the one :func:`...core.ao.occlusion_sums` casts from
+        (:func:`...core.ao.ray_origins`).  The maximum distance is ``params.max_distance``.
         """
         count = len(points)
         if not count:
@@ -84,9 +84,7 @@ class CyclesAmbientOcclusion:
         if not hasattr(self.scene, "cycles"):
             raise SeamlessAOError("The Cycles ray caster needs the Cycles render engine, which is not enabled "
                                   "in this Blender; enable it, or choose the Geometry Nodes caster.")
-        side = np.where((geometric * normals).sum(axis=1) < 0.0, -1.0, 1.0)
-        geometric = geometric * side[:, None]
-        origins = points + params.offset * geometric
+        origins, geometric = ray_origins(points, normals, geometric, params.offset)
         corners = texel_triangles(origins, normals, geometric, TRIANGLE_SIZE * params.offset)
         uv, height = pixel_uv(count, IMAGE_WIDTH)
         made = []
