@@ -16,10 +16,13 @@ Smart UV Project then Bake), warm: per mesh, one untimed bake of each baker firs
 baked --runs times and the median run is reported.  Smart UV Project keeps islands 2 texels apart at each
 image size (cycles_baseline.ISLAND_MARGIN_TEXELS) and Cycles' bake margin is 16 px.
 
+Seamless AO is run with its default ray caster (Geometry Nodes) and, from 16 rays, with its Cycles ray
+caster too (Ray Caster: Cycles; the first few rays of each texel are the node's either way).
+
 Time to error (issue 30): each Cycles setting's RMSE is a level; for each level, Cycles' time is that of
 its cheapest setting (of 256², 512², 1024² x 16, 64, 256 samples) at least as accurate, and Seamless AO's
-that of its cheapest run at least as accurate (from 256², 1 ray: the least its operator takes); the ratio is
-ours over Cycles'.
+that of its cheapest run at least as accurate, with either caster (from 256², 1 ray: the least its operator
+takes); the ratio is ours over Cycles'.
 
 Seams: for every chart border of a method (Seamless AO: mesh edges where any
 of the three UV maps jumps; Cycles: UV island borders), points a tiny step
@@ -63,6 +66,13 @@ SEAMLESS_RUNS = [(256, 1), (256, 2), (256, 4), (256, 8), (256, 16), (256, 32), (
 CYCLES_RUNS = [(size, samples) for size in (256, 512, 1024) for samples in (16, 64, 256)]
 #: Without the denoiser, to show what it buys (issue 9: keep it only if the numbers say it helps).
 RAW_RUNS = [(512, 16)]
+#: With the Cycles ray caster: from 16 rays, where Cycles casts at least half of each texel's rays
+#: (core/settings.py BULK_PILOT_RAYS are the node's).
+CYCLES_CASTER_RUNS = [(256, 16), (256, 32), (384, 32), (512, 16), (512, 32), (768, 32), (1024, 32)]
+#: The report's names of the kinds of Seamless AO run (the methods of its table and plot).
+OURS = "Seamless AO"
+OURS_CYCLES = "Seamless AO, Cycles rays"
+OURS_RAW = "Seamless AO, no denoise"
 
 
 def spiral_ramp_object():
@@ -210,13 +220,18 @@ def run_mesh(name, cache, out, rows, curves, timed_runs=3):
         if kept is not None:
             bpy.data.images.remove(kept)
         kept = image
-    # Undenoised first, so the last bake left on the object (for the seam renders) is the default one.
-    runs = [(size, rays, False) for size, rays in ([] if trivial else RAW_RUNS)]
-    runs += [(size, rays, True) for size, rays in (SEAMLESS_RUNS[:1] if trivial else SEAMLESS_RUNS)]
-    for image_size, rays, denoise in runs:
-        seconds, image_name, stages = seamless_median(image_size=image_size, rays=rays, denoise=denoise)
+    # Undenoised and Cycles-cast first, so the last bake left on the object (for the seam renders) is a
+    # default one.
+    runs = [(OURS_RAW, size, rays, {"denoise": False}) for size, rays in ([] if trivial else RAW_RUNS)]
+    runs += [(OURS_CYCLES, size, rays, {"ray_caster": "CYCLES"})
+             for size, rays in ([] if trivial else CYCLES_CASTER_RUNS)]
+    runs += [(OURS, size, rays, {}) for size, rays in (SEAMLESS_RUNS[:1] if trivial else SEAMLESS_RUNS)]
+    if not trivial:                                    # Cycles' own warm-up is done; the caster's scene is not
+        seamless_bake(ob, image_size=256, rays=16, ray_caster="CYCLES")
+    for method, image_size, rays, extra in runs:
+        seconds, image_name, stages = seamless_median(image_size=image_size, rays=rays, **extra)
         image = bpy.data.images[image_name]
-        record("Seamless AO" if denoise else "Seamless AO, no denoise", "{}², {} rays".format(image_size, rays),
+        record(method, "{}², {} rays".format(image_size, rays),
                seconds, " + ".join("{} {:.2f}".format(k, v) for k, v in stages.items()),
                shown_seamless(ob, image, loops, triangle, bary, normals),
                lambda t, b, image=image: shown_seamless(ob, image, loops, t, b, point_normals(mesh, t, b)),
@@ -252,8 +267,8 @@ def plot(curves, path):
     names = sorted({name for name, _ in curves})
     fig, axes = plt.subplots(2, (len(names) + 1) // 2, figsize=(4.2 * ((len(names) + 1) // 2), 7.5), squeeze=False)
     for ax, name in zip(axes.ravel(), names):
-        for method, style, colour in (("Seamless AO", "o-", "tab:blue"), ("Seamless AO, no denoise", "^:", "tab:cyan"),
-                                      ("Cycles", "s--", "tab:orange")):
+        for method, style, colour in ((OURS, "o-", "tab:blue"), (OURS_RAW, "^:", "tab:cyan"),
+                                      (OURS_CYCLES, "D-.", "tab:purple"), ("Cycles", "s--", "tab:orange")):
             points = sorted(curves.get((name, method), []))
             if not points:
                 continue
@@ -282,15 +297,17 @@ def plot(curves, path):
 
 def time_to_cycles_error(curves):
     """Issue 30's table: per mesh and Cycles level (each Cycles setting's RMSE), Cycles' cheapest setting at
-    least as accurate, Seamless AO's cheapest run (denoised, as by default) at least as accurate, and the
-    ratio of their times.  ``curves[(mesh, method)]`` holds ``[seconds, RMSE, "size/rays"]`` per run.
+    least as accurate, Seamless AO's cheapest run (denoised, as by default; either ray caster) at least as
+    accurate, and the ratio of their times.  ``curves[(mesh, method)]`` holds ``[seconds, RMSE, "size/rays"]``
+    per run.
 
     Returns the Markdown table and ``(cells, cells at most 1.0, cells at most 0.5)``.
     """
     rows, counts = [], [0, 0, 0]
     for mesh in list(dict.fromkeys(mesh for mesh, _ in curves)):
         cycles = sorted(curves.get((mesh, "Cycles"), []))
-        ours = sorted(curves.get((mesh, "Seamless AO"), []))
+        ours = sorted(curves.get((mesh, OURS), []) +
+                      [(seconds, rmse, label + " Cycles") for seconds, rmse, label in curves.get((mesh, OURS_CYCLES), [])])
         for _, level, label in sorted(cycles, key=lambda run: -run[1]):
             their = min((run for run in cycles if run[1] <= level), key=lambda run: run[0])
             good = [run for run in ours if run[1] <= level]
