@@ -23,6 +23,11 @@ STEP_SECONDS = 0.3
 BULK_STEP_SECONDS = 1.5
 #: Rays of the first such step (the next ones are sized by how long it took).
 BULK_FIRST_RAYS = 1 << 20
+#: A part (input mesh) with fewer rays than this left after its pilot gets them ray by ray instead: each
+#: ``ambient_occlusion`` call has a fixed cost (Cycles: scene sync and BVH, about 0.01-0.04 s, and a few
+#: microseconds per texel), which on a small part buys nothing, and a bake of many small objects
+#: would pay it once per object per step.
+BULK_LEAST_RAYS = 1 << 18
 
 
 #: No texel gets fewer rays than this when its share is cut.
@@ -44,9 +49,11 @@ class AOJob:
     open fraction``: the Blender side's Cycles caster), each texel's first
     :data:`BULK_PILOT_RAYS` rays and the creases are cast ray by ray (they
     tell which texels are buried), and the remaining rays of every texel are
-    left to that method, in steps of about :data:`BULK_STEP_SECONDS`.  There
-    is no adaptive stop then: such a caster's rays cost a fraction of the
-    pilot's.
+    left to that method, in steps of about :data:`BULK_STEP_SECONDS`, with no
+    adaptive stop (such a caster's rays cost a fraction of the pilot's).  A
+    part with fewer than :data:`BULK_LEAST_RAYS` rays after such a pilot is
+    cast as if its caster could not: its own pilot, the adaptive stop, ray by
+    ray.
 
     With ``weighted`` rays, a texel gets rays in proportion to the blend
     weight it is shown with (:func:`.targets.ray_shares`): texels of one share
@@ -95,18 +102,23 @@ class AOJob:
         if weighted:
             halvings = targets.shares(self.computed)[selected]
         rays = self.params.rays
+        counts = np.minimum(rays, np.maximum(MIN_SHARED_RAYS, rays >> halvings))
+        whole = self._whole_texel_parts(selected, counts)[targets.part_of(selected)]
         self.ray_count = np.zeros(count, dtype=np.int64)
         self.pilot_count = np.zeros(count, dtype=np.int64)
-        self.passes = []                     # [texels, ray indices], in casting order
-        self.remaining = []                  # per class: (its texels, its ray indices after the pilot)
+        self.passes = []                     # [texels, ray indices, given points, whole], in casting order
+        self.remaining = []                  # per class: (its texels, its ray indices after the pilot, whole)
         for halving in np.unique(halvings):
-            members = selected[halvings == halving]
-            count = min(rays, max(MIN_SHARED_RAYS, rays >> int(halving)))
-            pilot = min(count, BULK_PILOT_RAYS) if self.bulk else pilot_rays(count, self.params.adaptive)
-            self.ray_count[members] = count
-            self.pilot_count[members] = pilot
-            self.passes.append([members, np.arange(pilot), None])
-            self.remaining.append((members, np.arange(pilot, count)))
+            for by_whole in (True, False):
+                members = selected[(halvings == halving) & (whole == by_whole)]
+                if not len(members):
+                    continue
+                count = min(rays, max(MIN_SHARED_RAYS, rays >> int(halving)))
+                pilot = min(count, BULK_PILOT_RAYS) if by_whole else pilot_rays(count, self.params.adaptive)
+                self.ray_count[members] = count
+                self.pilot_count[members] = pilot
+                self.passes.append([members, np.arange(pilot), None, False])
+                self.remaining.append((members, np.arange(pilot, count), by_whole))
         self.pilot = True
         self.position = 0
         self.work_done = 0
@@ -125,8 +137,8 @@ class AOJob:
         if self.finished:
             return 1.0
         start = time.perf_counter()
-        queue, rays, where = self.passes[0]
-        if self.bulk and where is None and not self.pilot:
+        queue, rays, where, whole = self.passes[0]
+        if whole:
             return self._bulk_step(start)
         stop = self.position + max(1, self.batch_rays // max(len(rays), 1))
         batch = queue[self.position:stop]
@@ -174,7 +186,7 @@ class AOJob:
 
     def _bulk_step(self, start):
         """A batch of texels' remaining rays, shaded by their parts' casters' ``ambient_occlusion``."""
-        queue, rays, _ = self.passes[0]
+        queue, rays, _, _ = self.passes[0]
         samples = len(rays)
         batch = queue[self.position:self.position + max(1, self.bulk_rays // max(samples, 1))]
         part_of = self.targets.part_of(batch)
@@ -219,7 +231,7 @@ class AOJob:
         self.buried[rim] = False
         self.sums[rim] = 0.0
         self.ray_count[rim] = self.params.rays
-        self.passes.append([rim, np.arange(self.params.rays), (points, normals, geometric)])
+        self.passes.append([rim, np.arange(self.params.rays), (points, normals, geometric), False])
         self.work_expected = self.work_done + len(rim) * self.params.rays
 
     def _ray_geometry(self, ray_part, selection):
@@ -231,23 +243,31 @@ class AOJob:
     def _after_pilot(self):
         """Decide which texels stop early (all classes together); queue the rest for their remaining rays."""
         self.pilot = False
-        selection = np.concatenate([members for members, _ in self.remaining])
-        sums = self.sums[selection]
         ask = self.targets.neighbours_agree
-        if self.bulk:
-            decided = np.zeros(len(selection), dtype=bool)
-        else:
+        # the adaptive stop, for the texels whose parts keep their rays ray by ray
+        stoppable = [members for members, _, whole in self.remaining if not whole]
+        if stoppable:
+            selection = np.concatenate(stoppable)
+            sums = self.sums[selection]                  # settle_pilot scales the sums of the texels it stops
             decided = settle_pilot(sums, self.params, self.pilot_count[selection],
                                    neighbours=None if ask is None else (lambda code: ask(selection, code)),
                                    rays=self.ray_count[selection])
-        self.sums[selection] = sums
-        self.settled[selection[decided]] = True
-        for members, rays in self.remaining:
+            self.sums[selection] = sums
+            self.settled[selection[decided]] = True
+        for members, rays, whole in self.remaining:
             todo = members[~self.settled[members]]
             if len(rays) and len(todo):
-                self.passes.append([todo, rays, None])
+                self.passes.append([todo, rays, None, whole])
         self.remaining = []
-        self.work_expected = self.work_done + sum(len(todo) * len(rays) for todo, rays, _ in self.passes)
+        self.work_expected = self.work_done + sum(len(texels) * len(rays) for texels, rays, _, _ in self.passes)
+
+    def _whole_texel_parts(self, selected, counts):
+        """(parts,) bool: the parts whose rays after the pilot go to their caster's ``ambient_occlusion``:
+        when the job is :attr:`bulk`, those with at least :data:`BULK_LEAST_RAYS` such rays among the texels
+        ``selected`` (k,) int, which get ``counts`` (k,) int rays each; none otherwise."""
+        left = np.maximum(counts - BULK_PILOT_RAYS, 0)
+        per_part = np.bincount(self.targets.part_of(selected), weights=left, minlength=len(self.parts))
+        return (per_part >= BULK_LEAST_RAYS) & self.bulk
 
 
 def crease_points(near, near_normal, near_geometric, far, params, caster):

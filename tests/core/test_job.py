@@ -5,6 +5,7 @@ import pytest
 
 import meshes
 from seamless_ao.core.blend import blend_weights
+from seamless_ao.core import job as job_module
 from seamless_ao.core.job import MIN_SHARED_RAYS, AOJob
 from seamless_ao.core.mesh import TriangleMesh
 from seamless_ao.core.layout import build_layout
@@ -121,9 +122,10 @@ class WholeTexelCaster(BVHCaster):
 
 
 @pytest.mark.parametrize("adaptive", [False, True])
-def test_a_caster_that_shades_whole_texels_gets_every_ray_after_the_pilot(torus_layout, adaptive):
+def test_a_caster_that_shades_whole_texels_gets_every_ray_after_the_pilot(torus_layout, adaptive, monkeypatch):
     """The pilot rays (BULK_PILOT_RAYS, with or without the adaptive stop, which does not apply) are cast
     ray by ray; the other rays of every texel go to ``ambient_occlusion`` and count with their number."""
+    monkeypatch.setattr(job_module, "BULK_LEAST_RAYS", 1)           # the torus is small: hand it over anyway
     layout = torus_layout
     settings = BakeSettings(rays=64, adaptive=adaptive, auto_distance=False, max_distance=3.0)
     part = ray_part(layout.mesh, np.eye(4), settings,
@@ -144,3 +146,40 @@ def test_a_caster_that_shades_whole_texels_gets_every_ray_after_the_pilot(torus_
     assert (ray_sums >= 0.75 * (64 - pilot) - 1e-9).all() and (ray_sums <= pilot + 0.75 * (64 - pilot) + 1e-9).all()
     assert (ray_sums > 0.75 * (64 - pilot) + 0.5).any()   # some pilot rays meet the torus' own ring
     assert np.allclose(job.ao[computed], 1.0 - ray_sums / 64)
+
+
+def test_a_small_part_keeps_its_rays_with_the_node_and_a_large_one_hands_them_over(monkeypatch):
+    """Two meshes baked together, each with its own whole-texel caster: the part with fewer than
+    BULK_LEAST_RAYS rays after the pilot is cast as by a caster that shades no whole texels (its own pilot,
+    the adaptive stop, ray by ray; no ``ambient_occlusion`` call, each has a fixed cost): the same sums
+    as a plain BVH bake of it; the other hands all its rays after BULK_PILOT_RAYS over."""
+    large = TriangleMesh.from_triangles(*meshes.torus(rings=32, segments=16), smooth=True)
+    small = TriangleMesh.from_triangles(*meshes.box(size=(0.3, 0.3, 0.3), center=(3.0, 0.0, 0.0)))
+    layout = build_layout([large, small], image_size=96)
+    targets = TexelTargets(layout)
+    rays = 64
+    left = rays - BULK_PILOT_RAYS
+    computed = np.flatnonzero(targets.computed)
+    part_of = targets.part_of(computed)
+    texels_of = np.bincount(part_of, minlength=2)
+    assert texels_of[0] > 4 * texels_of[1] > 0
+    monkeypatch.setattr(job_module, "BULK_LEAST_RAYS", int(texels_of[0] + texels_of[1]) * left // 2)
+    settings = BakeSettings(rays=rays, adaptive=True, auto_distance=False, max_distance=3.0)
+
+    def bake(make_caster):
+        parts = [ray_part(mesh, np.eye(4), settings, make_caster) for mesh in (large, small)]
+        job = AOJob(targets, parts)
+        while not job.finished:
+            job.step()
+        return job, [part.caster for part in parts]
+
+    job, (big, little) = bake(lambda positions, triangles, sealed: WholeTexelCaster(positions, triangles, sealed))
+    plain, _ = bake(BVHCaster)
+    assert sum(count for count, _ in big.calls) == texels_of[0] and big.rays_cast == BULK_PILOT_RAYS * texels_of[0]
+    assert not job.settled[computed[part_of == 0]].any()
+    assert not little.calls
+    in_little = computed[part_of == 1]
+    assert job.settled[in_little].any()                       # the adaptive stop, as without Cycles
+    assert np.array_equal(job.sums[in_little], plain.sums[in_little])
+    assert np.array_equal(job.ao[in_little], plain.ao[in_little])
+    assert np.isfinite(job.ao).all()
