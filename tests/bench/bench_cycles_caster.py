@@ -25,7 +25,8 @@ from accuracy import errors, shown_seamless
 from report import fresh, reference, seamless_bake
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
-#: (image size, rays per texel): the node casts the first 8 rays of each texel (core/job.py), Cycles the rest.
+#: (image size, rays per texel): the node casts the first core/settings.py BULK_PILOT_RAYS rays of each texel,
+#: Cycles the rest.
 SETTINGS = [(256, 32), (256, 64), (512, 32), (512, 64)]
 CASTERS = [("GEOMETRY_NODES", "Geometry Nodes"), ("CYCLES", "Cycles")]
 
