@@ -4,6 +4,7 @@ form, and a whole bake against the Geometry Nodes caster's."""
 import numpy as np
 import pytest
 
+from accuracy import errors, reference_ao, shown_seamless, surface_samples
 from blender_checks import image_array
 from blender_scenes import suzanne
 from seamless_ao.core.rays import AOParams
@@ -68,8 +69,11 @@ def test_a_cycles_bake_shows_the_geometry_nodes_bake_and_leaves_nothing_behind(a
     # with the node's rays alone the two images would be the same, ray for ray
     assert (cycles != nodes).mean() > 0.5
     gap = cycles[shown] - nodes[shown]
-    # 64 rays: a texel's noise is about 0.06 at AO 1/2; the two casters' means agree far closer
-    assert abs(gap.mean()) < 0.01, gap.mean()
+    # 64 rays: a texel's noise is about 0.06 at AO 1/2. The means differ by a convention, not by noise: the
+    # node mirrors a ray that leaves below the face to above it, Cycles (and the plain reference) do not,
+    # so Cycles is a little darker where shading and face normals part; which of the two is nearer the
+    # reference is the next test's question.
+    assert abs(gap.mean()) < 0.02, gap.mean()
     assert np.sqrt((gap * gap).mean()) < 0.08
     assert np.isfinite(cycles).all() and cycles.min() >= 0.0 and cycles.max() <= 1.0
 
@@ -100,3 +104,29 @@ def test_a_cancelled_cycles_bake_leaves_nothing_behind(addon, fresh_scene):
     assert not [d.name for kind in ("scenes", "objects", "meshes", "images", "materials", "worlds", "node_groups")
                 for d in getattr(bpy.data, kind) if d.name.startswith(TEMP_PREFIX)]
     assert not [layer.name for layer in head.data.uv_layers if layer.name.startswith("AO_")]
+
+
+def test_a_cycles_bake_is_as_near_the_plain_reference_as_a_geometry_nodes_bake(addon, fresh_scene):
+    """Suzanne subdivided once and shaded smooth (her shading normals part from her faces most), baked with
+    each caster: at 1,000 random visible points, what the material shows against the plain reference
+    (tests/support/plain_reference.py, no code shared with either caster).  Cycles casts most rays here, and
+    its RMSE and its mean error are no worse than the node's."""
+    import bpy
+
+    from seamless_ao.operators.adapters.mesh_data import read_triangles
+
+    head = suzanne(1)
+    mesh, loops = read_triangles(head.data)
+    triangle, bary, normals = surface_samples(mesh, 1000, seed=7)
+    reference = reference_ao(head, mesh, triangle, bary, normals, rays=1024, seed=3)
+    measured = {}
+    for caster in ("GEOMETRY_NODES", "CYCLES"):
+        report = addon.bake([head], image_size=256, rays=64, ray_caster=caster, denoise=False)
+        shown = shown_seamless(head, bpy.data.images[report.image], loops, triangle, bary, normals)
+        assert np.isfinite(shown).all()
+        measured[caster] = (errors(shown, reference)[0], float((shown - reference).mean()))
+    print(measured)
+    (nodes_rmse, nodes_mean), (cycles_rmse, cycles_mean) = measured["GEOMETRY_NODES"], measured["CYCLES"]
+    # the reference's own noise at 1024 rays is about 0.016 per point at AO 1/2, 0.0005 in the mean
+    assert cycles_rmse <= nodes_rmse + 0.003, measured
+    assert abs(cycles_mean) <= abs(nodes_mean) + 0.003, measured
