@@ -42,7 +42,7 @@ SIZE_MODE_ITEMS = (
 
 #: Pilot rays of each texel when a caster that bakes whole texels (Cycles) takes the rest: from inside a
 #: closed piece every ray meets its back faces, so a few tell the buried texels (core/ao.py's ``buried``).
-BULK_PILOT_RAYS = 8
+BULK_PILOT_RAYS = 4
 
 CASTER_ITEMS = (
     ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (every setting)"),
