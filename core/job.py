@@ -102,8 +102,7 @@ class AOJob:
         if weighted:
             halvings = targets.shares(self.computed)[selected]
         rays = self.params.rays
-        counts = np.minimum(rays, np.maximum(MIN_SHARED_RAYS, rays >> halvings))
-        whole = self._whole_texel_parts(selected, counts)[targets.part_of(selected)]
+        whole = self._whole_texel_parts(selected, shared_rays(rays, halvings))[targets.part_of(selected)]
         self.ray_count = np.zeros(count, dtype=np.int64)
         self.pilot_count = np.zeros(count, dtype=np.int64)
         self.passes = []                     # [texels, ray indices, given points, whole], in casting order
@@ -113,7 +112,7 @@ class AOJob:
                 members = selected[(halvings == halving) & (whole == by_whole)]
                 if not len(members):
                     continue
-                count = min(rays, max(MIN_SHARED_RAYS, rays >> int(halving)))
+                count = int(shared_rays(rays, halving))
                 pilot = min(count, BULK_PILOT_RAYS) if by_whole else pilot_rays(count, self.params.adaptive)
                 self.ray_count[members] = count
                 self.pilot_count[members] = pilot
@@ -268,6 +267,12 @@ class AOJob:
         left = np.maximum(counts - BULK_PILOT_RAYS, 0)
         per_part = np.bincount(self.targets.part_of(selected), weights=left, minlength=len(self.parts))
         return (per_part >= BULK_LEAST_RAYS) & self.bulk
+
+
+def shared_rays(rays, halvings):
+    """Rays of a texel whose share of ``rays`` is halved ``halvings`` times (int or (k,) int), never below
+    :data:`MIN_SHARED_RAYS` (nor above ``rays``)."""
+    return np.minimum(rays, np.maximum(MIN_SHARED_RAYS, np.right_shift(rays, halvings)))
 
 
 def crease_points(near, near_normal, near_geometric, far, params, caster):
