@@ -47,10 +47,11 @@ class AOJob:
     When every part's caster can shade whole texels itself (a method
     ``ambient_occlusion(points, normals, geometric, samples, params) -> (k,)
     open fraction``: the Blender side's Cycles caster), each texel's first
-    :data:`BULK_PILOT_RAYS` rays and the creases are cast ray by ray (they
-    tell which texels are buried), and the remaining rays of every texel are
-    left to that method, in steps of about :data:`BULK_STEP_SECONDS`, with no
-    adaptive stop (such a caster's rays cost a fraction of the pilot's).  A
+    :data:`BULK_PILOT_RAYS` rays are cast ray by ray (they tell which texels
+    are buried; the rays that find the creases are too), and the remaining
+    rays of every texel, and all rays at the creases, are left to that
+    method, in steps of about :data:`BULK_STEP_SECONDS`, with no adaptive
+    stop (such a caster's rays cost a fraction of the pilot's).  A
     part with fewer than :data:`BULK_LEAST_RAYS` rays after such a pilot is
     cast as if its caster could not: its own pilot, the adaptive stop, ray by
     ray.
@@ -102,7 +103,8 @@ class AOJob:
         if weighted:
             halvings = targets.shares(self.computed)[selected]
         rays = self.params.rays
-        whole = self._whole_texel_parts(selected, shared_rays(rays, halvings))[targets.part_of(selected)]
+        self.whole_parts = self._whole_texel_parts(selected, shared_rays(rays, halvings))
+        whole = self.whole_parts[targets.part_of(selected)]
         self.ray_count = np.zeros(count, dtype=np.int64)
         self.pilot_count = np.zeros(count, dtype=np.int64)
         self.passes = []                     # [texels, ray indices, given points, whole], in casting order
@@ -139,16 +141,8 @@ class AOJob:
         queue, rays, where, whole = self.passes[0]
         if whole:
             return self._bulk_step(start)
-        stop = self.position + max(1, self.batch_rays // max(len(rays), 1))
-        batch = queue[self.position:stop]
-        part_of = self.targets.part_of(batch)
-        for part in np.unique(part_of):
-            selection = batch[part_of == part]
-            ray_part = self.parts[part]
-            if where is None:
-                points, normals, geometric = self._ray_geometry(ray_part, selection)
-            else:                                    # given points, in ray space (the creases)
-                points, normals, geometric = (a[self.position:stop][part_of == part] for a in where)
+        batch = queue[self.position:self.position + max(1, self.batch_rays // max(len(rays), 1))]
+        for selection, ray_part, (points, normals, geometric) in self._batch_by_part(batch, where):
             sums, behind = occlusion_sums(points, normals, geometric, self.targets.ids[selection], rays,
                                           ray_part.params, ray_part.caster)
             self.sums[selection] += sums
@@ -185,18 +179,28 @@ class AOJob:
 
     def _bulk_step(self, start):
         """A batch of texels' remaining rays, shaded by their parts' casters' ``ambient_occlusion``."""
-        queue, rays, _, _ = self.passes[0]
+        queue, rays, where, _ = self.passes[0]
         samples = len(rays)
         batch = queue[self.position:self.position + max(1, self.bulk_rays // max(samples, 1))]
-        part_of = self.targets.part_of(batch)
-        for part in np.unique(part_of):
-            selection = batch[part_of == part]
-            ray_part = self.parts[part]
-            points, normals, geometric = self._ray_geometry(ray_part, selection)
+        for selection, ray_part, (points, normals, geometric) in self._batch_by_part(batch, where):
             open_fraction = ray_part.caster.ambient_occlusion(points, normals, geometric, samples, ray_part.params)
             self.sums[selection] += (1.0 - np.clip(np.nan_to_num(open_fraction), 0.0, 1.0)) * samples
         self.bulk_rays = self._next(queue, len(batch), samples, start, self.bulk_rays, BULK_STEP_SECONDS, 1 << 26)
         return self.fraction
+
+    def _batch_by_part(self, batch, where):
+        """Per part among the texels ``batch`` (the current pass's from :attr:`position`): its texels, its
+        :class:`RayPart` and their point, shading and geometric normal (k, 3) in its ray space, from the
+        targets or from the pass's given points ``where`` (the creases)."""
+        part_of = self.targets.part_of(batch)
+        for part in np.unique(part_of):
+            mine = part_of == part
+            ray_part = self.parts[part]
+            if where is None:
+                yield batch[mine], ray_part, self._ray_geometry(ray_part, batch[mine])
+            else:
+                window = slice(self.position, self.position + len(batch))
+                yield batch[mine], ray_part, tuple(given[window][mine] for given in where)
 
     def _queue_creases(self):
         """Find the buried texels; queue the rim of each buried region to be shaded again at the crease.
@@ -230,7 +234,13 @@ class AOJob:
         self.buried[rim] = False
         self.sums[rim] = 0.0
         self.ray_count[rim] = self.params.rays
-        self.passes.append([rim, np.arange(self.params.rays), (points, normals, geometric), False])
+        # a part whose rays go to ambient_occlusion sends its creases there too (given points, same origins)
+        whole = self.whole_parts[part_of]
+        for by_whole in (True, False):
+            mine = whole == by_whole
+            if mine.any():
+                self.passes.append([rim[mine], np.arange(self.params.rays),
+                                    (points[mine], normals[mine], geometric[mine]), by_whole])
         self.work_expected = self.work_done + len(rim) * self.params.rays
 
     def _ray_geometry(self, ray_part, selection):

@@ -47,9 +47,9 @@ BULK_PILOT_RAYS = 4
 CASTER_ITEMS = (
     ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (every setting)"),
     ("PYTHON_BVH", "Python BVH", "A Python loop over mathutils' BVHTree.ray_cast on one core (reference)"),
-    ("CYCLES", "Cycles", "Geometry Nodes for each texel's first {} rays and the creases, then Cycles' AO bake on "
-     "all cores for the rest, with no adaptive stop (faster in closed rooms and on large scans; classic AO only: "
-     "no falloff, full hemisphere, cosine rays, back faces occlude, no ground plane)".format(BULK_PILOT_RAYS)),
+    ("CYCLES", "Cycles", "Geometry Nodes for each texel's first {} rays and to find the creases, then Cycles' AO "
+     "bake on all cores for the rest, with no adaptive stop (faster in closed rooms and on large scans; classic AO "
+     "only: no falloff, full hemisphere, cosine rays, back faces occlude, no ground plane)".format(BULK_PILOT_RAYS)),
 )
 
 #: What the Cycles caster cannot do: (setting, the value it needs, the sentence that says so).

@@ -183,3 +183,25 @@ def test_a_small_part_keeps_its_rays_with_the_node_and_a_large_one_hands_them_ov
     assert np.array_equal(job.sums[in_little], plain.sums[in_little])
     assert np.array_equal(job.ao[in_little], plain.ao[in_little])
     assert np.isfinite(job.ao).all()
+
+
+def test_a_whole_texel_caster_shades_the_creases_too(monkeypatch):
+    """A box pushed into another (texels of each inside the other are buried): the rim of each buried
+    region is shaded at its crease points by ``ambient_occlusion`` (all rays, given points) when the part's
+    other rays go there too.  The fake caster says 0.3 open everywhere, so a crease texel's AO is exactly
+    0.3, which no texel with pilot rays of its own can show (1 - (p + 0.7 x 60) / 64 for p of 4)."""
+    monkeypatch.setattr(job_module, "BULK_LEAST_RAYS", 1)
+    positions, triangles, _ = meshes.pierced_box()
+    mesh = TriangleMesh.from_triangles(positions, triangles)
+    layout = build_layout(mesh, image_size=128)
+    settings = BakeSettings(rays=64, auto_distance=False, max_distance=3.0)
+    part = ray_part(layout.mesh, np.eye(4), settings,
+                    lambda positions, triangles, sealed: WholeTexelCaster(positions, triangles, sealed, 0.3))
+    job = AOJob(TexelTargets(layout), [part])
+    while not job.finished:
+        job.step()
+    crease_calls = [count for count, samples in part.caster.calls if samples == 64]
+    assert crease_calls and sum(crease_calls) > 10
+    creased = np.isclose(job.ao, 0.3, atol=1e-6) & job.computed
+    assert creased.sum() == sum(crease_calls)
+    assert not job.buried[creased].any() and np.isfinite(job.ao).all()
