@@ -193,14 +193,15 @@ class AOJob:
         :class:`RayPart` and their point, shading and geometric normal (k, 3) in its ray space, from the
         targets or from the pass's given points ``where`` (the creases)."""
         part_of = self.targets.part_of(batch)
+        if where is not None:
+            where = tuple(given[self.position:self.position + len(batch)] for given in where)
         for part in np.unique(part_of):
             mine = part_of == part
             ray_part = self.parts[part]
             if where is None:
                 yield batch[mine], ray_part, self._ray_geometry(ray_part, batch[mine])
             else:
-                window = slice(self.position, self.position + len(batch))
-                yield batch[mine], ray_part, tuple(given[window][mine] for given in where)
+                yield batch[mine], ray_part, tuple(given[mine] for given in where)
 
     def _queue_creases(self):
         """Find the buried texels; queue the rim of each buried region to be shaded again at the crease.

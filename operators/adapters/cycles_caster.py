@@ -6,15 +6,17 @@ all in closed rooms.  Cycles casts no given rays, but it bakes AO into an
 image: :meth:`CyclesAmbientOcclusion.ambient_occlusion` makes a mesh of one tiny
 triangle per texel (at the texel's ray origin, facing its shading normal,
 so that Cycles' normal there is the texel's with no custom normals to set;
-a UV triangle around a pixel of its own), invisible to every ray, and bakes Cycles' AO of it into a
-float image in the caster's temporary scene, where the occluder is the same
-mesh the Raycast node sees.  Each texel's pixel is its open fraction.
+a UV triangle around a pixel of its own), invisible to every ray, and bakes
+Cycles' AO of it into a float image in the caster's temporary scene, where
+the occluder is the same mesh the Raycast node sees.  Each texel's pixel is
+its open fraction.
 
 :class:`...core.job.AOJob` still casts each texel's first few rays with the
 Raycast node (they say which texels are buried inside another piece, which
 Cycles' AO cannot say), and the rays that find the crease points; it hands
-the remaining rays, and the AO at the crease points, to Cycles.  The settings Cycles' AO cannot follow (falloff,
-cone, ground plane, back faces) are refused by :class:`...core.settings.BakeSettings`.
+the remaining rays, and the AO at the crease points, to Cycles.  The
+settings Cycles' AO cannot follow (falloff, cone, ground plane, back faces)
+are refused by :class:`...core.settings.BakeSettings`.
 Everything is made in the temporary scene and removed with the caster; the
 user's scenes and render settings are not touched.
 """

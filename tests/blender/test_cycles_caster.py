@@ -125,7 +125,6 @@ def test_a_cycles_bake_is_as_near_the_plain_reference_as_a_geometry_nodes_bake(a
         shown = shown_seamless(head, bpy.data.images[report.image], loops, triangle, bary, normals)
         assert np.isfinite(shown).all()
         measured[caster] = (errors(shown, reference)[0], float((shown - reference).mean()))
-    print(measured)
     (nodes_rmse, nodes_mean), (cycles_rmse, cycles_mean) = measured["GEOMETRY_NODES"], measured["CYCLES"]
     # the reference's own noise at 1024 rays is about 0.016 per point at AO 1/2, 0.0005 in the mean
     assert cycles_rmse <= nodes_rmse + 0.003, measured

@@ -300,5 +300,4 @@ def test_a_box_pushed_into_another_leaves_no_dark_line_along_the_intersection(ad
     reference = reference_ao(ob, mesh, triangle[near], bary[near], normals[near], rays=1024)
     shown = shown_seamless(ob, bpy.data.images[report.image], loops, triangle[near], bary[near], normals[near])
     rmse, _ = errors(shown, reference)
-    print(ray_caster, "RMSE near the intersection", rmse, "lowest error", (shown - reference).min())
     assert rmse < 0.06 and (shown - reference).min() > -0.15, (rmse, (shown - reference).min())
