@@ -56,10 +56,11 @@ class AOJob:
     cast as if its caster could not: its own pilot, the adaptive stop, ray by
     ray.
 
-    With ``weighted`` rays, a texel gets rays in proportion to the blend
-    weight it is shown with (:func:`.targets.ray_shares`): texels of one share
-    form a class with its own ray count and pilot, each a stratified prefix of
-    the same sequence.
+    A target's share of the rays may be halved (:meth:`.targets.TexelTargets.shares`):
+    a padding ring texel's always, and with ``weighted`` rays a texel's in
+    proportion to the blend weight it is shown with (:func:`.targets.ray_shares`).
+    Texels of one share form a class with its own ray count and pilot, each a
+    stratified prefix of the same sequence.
 
     Parameters
     ----------
@@ -99,9 +100,7 @@ class AOJob:
         self.bulk = all(callable(getattr(part.caster, "ambient_occlusion", None)) for part in parts)
         self.bulk_rays = BULK_FIRST_RAYS
         selected = targets.casting_order(np.flatnonzero(self.computed))
-        halvings = np.zeros(len(selected), dtype=np.int64)
-        if weighted:
-            halvings = targets.shares(self.computed)[selected]
+        halvings = targets.shares(self.computed, weighted)[selected]
         rays = self.params.rays
         self.whole_parts = self._whole_texel_parts(selected, shared_rays(rays, halvings))
         whole = self.whole_parts[targets.part_of(selected)]

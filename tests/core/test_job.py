@@ -12,7 +12,7 @@ from seamless_ao.core.layout import build_layout
 from seamless_ao.core.raster import texel_geometry
 from seamless_ao.core.rays import BVHCaster, ray_part
 from seamless_ao.core.settings import BULK_PILOT_RAYS, BakeSettings
-from seamless_ao.core.targets import MAX_RAY_HALVINGS, TexelTargets, ray_shares
+from seamless_ao.core.targets import MAX_RAY_HALVINGS, RING_RAY_HALVINGS, TexelTargets, ray_shares
 
 
 @pytest.fixture(scope="module")
@@ -44,6 +44,7 @@ def test_weighted_rays_never_fall_below_what_a_texels_own_blend_weight_asks(toru
     # halved h times only where the texel is shown with weight at most 2^-h
     assert (own_weight <= 2.0 ** -halvings[computed] + 1e-9).all()
     assert set(np.unique(halvings[computed])) >= {0, 1}                 # a torus has both kinds
+    halvings = halvings + (layout.texels.ring > 0) * RING_RAY_HALVINGS   # a padding ring's share is halved too
     expected = np.maximum(MIN_SHARED_RAYS, 32 >> halvings[computed])
     assert np.array_equal(job.ray_count[computed], np.where(halvings[computed] == 0, 32, expected))
     assert halvings.max() <= MAX_RAY_HALVINGS
@@ -69,6 +70,22 @@ def test_weighted_rays_keep_full_texels_bit_identical_and_the_rest_within_their_
     variance = ao * (1.0 - ao) * (1.0 / weighted.ray_count[cut] + 1.0 / 32)
     assert (1.0 - ao).mean() > 0.05                                    # occluded enough to show a bias
     assert abs(difference.mean()) <= 4.0 * np.sqrt(variance.sum()) / cut.sum() + 1e-3
+
+
+@pytest.mark.parametrize("rays", [32, 4])
+def test_a_padding_ring_gets_half_the_rays_and_what_a_point_reads_gets_all(torus_layout, rays):
+    """Covered and near texels (what bilinear filtering reads at the chart's points) get every ray; the
+    first padding ring, which only the denoiser and mip-maps read, half of them (never below
+    MIN_SHARED_RAYS); farther rings none."""
+    layout = torus_layout
+    job = run(layout, rays, weighted=False)
+    ring = layout.texels.ring
+    assert (ring == 1).any() and (ring > 1).any()                        # the torus has both kinds of ring
+    assert np.array_equal(job.computed, ring <= 1)
+    assert (job.ray_count[ring == 0] == rays).all()
+    assert (job.ray_count[ring == 1] == max(MIN_SHARED_RAYS, rays >> RING_RAY_HALVINGS)).all()
+    assert (job.ray_count[ring > 1] == 0).all()
+    assert job.rays_cast == job.ray_count.sum()
 
 
 def test_adaptive_stop_with_weighted_rays_scales_each_texel_to_its_own_count(torus_layout):
@@ -136,16 +153,18 @@ def test_a_caster_that_shades_whole_texels_gets_every_ray_after_the_pilot(torus_
         job.step()
     computed = job.computed
     pilot = BULK_PILOT_RAYS
-    assert caster.calls and {samples for _, samples in caster.calls} == {64 - pilot}
-    assert sum(count for count, _ in caster.calls) == computed.sum() and not job.settled.any()
+    count = job.ray_count[computed]                          # 64, and half of it in the padding ring
+    assert set(np.unique(count)) == {64, 64 >> RING_RAY_HALVINGS}
+    assert caster.calls and {samples for _, samples in caster.calls} == set(np.unique(count) - pilot)
+    assert sum(texels for texels, _ in caster.calls) == computed.sum() and not job.settled.any()
     assert caster.rays_cast == pilot * computed.sum()       # the pilot only: a lone torus buries nothing
-    assert job.rays_cast == 64 * computed.sum()
+    assert job.rays_cast == count.sum()
     # each texel: its pilot rays' occlusion plus 3/4 of the others
     ray_sums = job.sums[computed]
     assert np.isfinite(job.ao).all() and (job.ao >= 0).all() and (job.ao <= 1).all()
-    assert (ray_sums >= 0.75 * (64 - pilot) - 1e-9).all() and (ray_sums <= pilot + 0.75 * (64 - pilot) + 1e-9).all()
-    assert (ray_sums > 0.75 * (64 - pilot) + 0.5).any()   # some pilot rays meet the torus' own ring
-    assert np.allclose(job.ao[computed], 1.0 - ray_sums / 64)
+    assert (ray_sums >= 0.75 * (count - pilot) - 1e-9).all() and (ray_sums <= pilot + 0.75 * (count - pilot) + 1e-9).all()
+    assert (ray_sums > 0.75 * (count - pilot) + 0.5).any()   # some pilot rays meet the torus' own ring
+    assert np.allclose(job.ao[computed], 1.0 - ray_sums / count)
 
 
 def test_a_small_part_keeps_its_rays_with_the_node_and_a_large_one_hands_them_over(monkeypatch):
