@@ -158,4 +158,6 @@ def seam_renders(ob, out, image):
     both.paste(left, (0, 0))
     both.paste(right, (left.width, 0))
     both.save(out / "seam_side_by_side.png")
+    for path in paths:                     # the two halves are in the side-by-side image
+        path.unlink()
     print("  wrote seam close-ups (left Seamless AO, right Cycles) to", out / "seam_side_by_side.png")
