@@ -70,13 +70,19 @@ def test_a_mirrored_object_finds_the_texels_buried_inside_another_piece(bakes):
 
 def test_a_mirrored_object_bakes_within_the_noise_of_a_rotated_one(bakes):
     """The rotated bake casts other rays at the same surface (world directions turn with it): its difference
-    from the plain bake is ray noise.  The mirrored one must differ no more than that."""
+    from the plain bake is ray noise.  The mirrored one must differ no more than that: in RMS, and in the
+    99.9th percentile of 1,500 points (about the second largest), not the largest, which is one point of
+    noise.  With the first padding ring's rays halved (15e8cdd), seeds 0-4 gave the mirrored bake a larger
+    single worst point than the rotated one twice (0.0484 against 0.0463, 0.0695 against 0.0641; its next
+    largest 0.0329 and 0.0426), at 2/3 of its RMS.  Without sealing in the mirrored bake's handedness
+    (faces wound as in object space) its 99.9th percentile was 0.234 and 0.245 against 0.041 and 0.059."""
     plain = bakes["as is"][1]
     rotated = bakes["rotated"][1] - plain
     mirrored = bakes["mirrored"][1] - plain
     rms = lambda values: float(np.sqrt(np.mean(values * values)))       # noqa: E731
-    print("rotated: RMS {:.4f}, max {:.4f}; mirrored: RMS {:.4f}, max {:.4f}".format(
-        rms(rotated), np.abs(rotated).max(), rms(mirrored), np.abs(mirrored).max()))
+    worst = lambda values: float(np.quantile(np.abs(values), 0.999))   # noqa: E731
+    print("rotated: RMS {:.4f}, p99.9 {:.4f}, max {:.4f}; mirrored: RMS {:.4f}, p99.9 {:.4f}, max {:.4f}".format(
+        rms(rotated), worst(rotated), np.abs(rotated).max(), rms(mirrored), worst(mirrored), np.abs(mirrored).max()))
     assert 0.0 < rms(rotated)                                            # the rotated bake did cast other rays
     assert rms(mirrored) <= rms(rotated)
-    assert np.abs(mirrored).max() <= np.abs(rotated).max()
+    assert worst(mirrored) <= worst(rotated)
