@@ -76,9 +76,12 @@ class TexelTargets:
 
     def shares(self, computed, weighted):
         """(n,) int: how many times each texel's ray count is halved: :data:`RING_RAY_HALVINGS` for a padding
-        ring texel, plus, for ``weighted`` rays, for its blend weight (:func:`ray_shares`)."""
+        ring texel, plus, for ``weighted`` rays, for its blend weight (:func:`ray_shares`); never more than
+        :data:`MAX_RAY_HALVINGS` in all."""
         halvings = np.where(self.layout.texels.ring > 0, RING_RAY_HALVINGS, 0)
-        return halvings + ray_shares(self.layout, computed) if weighted else halvings
+        if weighted:
+            halvings = np.minimum(halvings + ray_shares(self.layout, computed), MAX_RAY_HALVINGS)
+        return halvings
 
     def rim(self, buried, computed):
         """The buried texels beside a seen texel of their chart, and one such neighbour each (:func:`buried_rim`)."""
