@@ -66,11 +66,9 @@ def main():
                      "{:.4f}".format(float(np.mean(error))),
                      "-" if density is None else "{:.1f}".format(3 * spacing * density)])
 
-    for rays, denoise, caster in ((8, True, "GEOMETRY_NODES"), (32, True, "GEOMETRY_NODES"),
-                                  (128, True, "GEOMETRY_NODES"), (8, False, "GEOMETRY_NODES"),
-                                  (32, False, "GEOMETRY_NODES"), (128, False, "GEOMETRY_NODES"),
-                                  (32, True, "CYCLES"), (128, True, "CYCLES"), (32, False, "CYCLES"),
-                                  (128, False, "CYCLES")):
+    runs = [(rays, denoise, caster) for caster, ray_counts in (("GEOMETRY_NODES", (8, 32, 128)), ("CYCLES", (32, 128)))
+            for denoise in (True, False) for rays in ray_counts]
+    for rays, denoise, caster in runs:
         report = package.seamless_ao.bake([ob], image_size=args.size, rays=rays, denoise=denoise, ray_caster=caster,
                                           auto_distance=False, max_distance=MAX_DISTANCE)
         shown = shown_seamless(ob, bpy.data.images[report.image], loops, triangle, bary, normals)

@@ -27,9 +27,8 @@ from common import finish, markdown_table, say
 import bpy
 
 import package
-import real_assets
 from accuracy import errors, shown_seamless
-from blender_scenes import add_object, mesh_from_arrays
+from bench_assets import fresh_object
 from plain_reference import reference_at_visible_points
 from seamless_ao.core import pipeline, targets
 from seamless_ao.operators.adapters.mesh_data import read_triangles
@@ -57,12 +56,7 @@ def main():
     args = parser.parse_args()
     rows = []
     for name in dict.fromkeys(case[0] for case in CASES):
-        if hasattr(bpy.types.Scene, "seamless_ao"):
-            package.seamless_ao.unregister()
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-        package.seamless_ao.register()
-        positions, triangles = real_assets.ASSETS[name]()
-        ob = add_object(name, mesh_from_arrays(name, positions, triangles))
+        ob = fresh_object(name, smooth=False)
         mesh, loops = read_triangles(ob.data)
         triangle, bary, normals, reference, max_distance = reference_at_visible_points(mesh, count=1000)
         for _, size, rays in (case for case in CASES if case[0] == name):
