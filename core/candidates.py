@@ -34,7 +34,7 @@ def box_cells(low, high, origin, cell):
     return first, last, entry, first[entry, 0] + local % span[entry, 0], first[entry, 1] + local // span[entry, 0]
 
 
-def candidate_pairs(uv, group, margin=0.0, query=None):
+def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0):
     """Pairs of shapes of the same group whose 2D boxes come within ``margin``.
 
     Parameters
@@ -49,6 +49,14 @@ def candidate_pairs(uv, group, margin=0.0, query=None):
     query : (t,) bool, optional
         Only pairs with at least one of these shapes (the grid cells no query
         shape touches are never paired up).
+    depth : (t, c) float64, optional
+        Depth of each corner; with it, only pairs whose depth spread
+        ``max(high_i - low_j, high_j - low_i)`` exceeds ``spread`` (the most
+        their depths can differ).  Each cell's shapes are then paired by
+        depth, never all with all: a fold check across a margin wants the
+        few pairs far apart in depth among the many neighbours along one
+        boundary.
+    spread : float
 
     Returns
     -------
@@ -82,7 +90,11 @@ def candidate_pairs(uv, group, margin=0.0, query=None):
         (cell_x[1:] != cell_x[:-1]) | (cell_y[1:] != cell_y[:-1])
         | (group[live][entry[1:]] != group[live][entry[:-1]]))
     starts = np.concatenate((np.flatnonzero(key_change), [len(entry)]))
-    here, there = pairs_within_groups(starts).T.copy()
+    if depth is None:
+        here, there = pairs_within_groups(starts).T.copy()
+    else:
+        entry, cell_x, cell_y, here, there = _pairs_apart_in_depth(
+            entry, cell_x, cell_y, starts, depth[live], spread)
     i, j = entry[here], entry[there]
     # Each pair once, from the one cell both boxes hold whose corner is the larger of their low corners
     # (no sort to drop repeats), and only where the boxes themselves meet.  Columns, not rows: faster.
@@ -94,11 +106,57 @@ def candidate_pairs(uv, group, margin=0.0, query=None):
         keep &= axis_low[i] <= axis_high[j]
         keep &= axis_low[j] <= axis_high[i]
     i, j = live[i[keep]], live[j[keep]]                  # i < j: a cell lists its shapes in order
+    if depth is not None:                                # ... unless it lists them by depth
+        i, j = np.minimum(i, j), np.maximum(i, j)
     if query is not None:
         asked = query[i] | query[j]
         i, j = i[asked], j[asked]
     order = np.argsort(i * len(group) + j, kind="stable")
     return np.stack([i[order], j[order]], axis=1)
+
+
+def _pairs_apart_in_depth(entry, cell_x, cell_y, starts, depth, spread):
+    """The pairs of each cell's entries whose depth spread may exceed ``spread``, found by depth.
+
+    A shape's depths span ``mid +- half``; two shapes' spread is
+    ``|mid_i - mid_j| + half_i + half_j``.  Within a cell sorted by ``mid``,
+    an entry pairs with the later ones whose ``mid`` exceeds its own by more
+    than ``spread - half - (the cell's largest half)``: one range each, a
+    superset of the wanted pairs, which are then picked exactly.
+
+    Parameters
+    ----------
+    entry, cell_x, cell_y : (k,) int64, sorted by cell; starts : (g + 1,) int64, each cell's first entry
+    depth : (n, c) float64, each shape's corner depths; spread : float
+
+    Returns
+    -------
+    entry, cell_x, cell_y : (k,) int64, reordered by depth within each cell
+    here, there : (p,) int64, positions of the pairs' entries (either may be first)
+    """
+    shallow, deep = depth.min(axis=1), depth.max(axis=1)
+    mid, half = 0.5 * (shallow + deep)[entry], 0.5 * (deep - shallow)[entry]
+    cell = np.repeat(np.arange(len(starts) - 1), np.diff(starts))
+    order = np.lexsort((mid, cell))
+    entry, cell_x, cell_y, mid, half = entry[order], cell_x[order], cell_y[order], mid[order], half[order]
+    cell_half = np.maximum.reduceat(half, starts[:-1]) if len(entry) else half
+    # one sorted float key for (cell, mid): cells a stride apart, wider than any reach
+    bottom = float(mid.min()) if len(mid) else 0.0
+    width = float(mid.max()) - bottom if len(mid) else 0.0
+    stride = (2.0 * width + abs(float(spread))) or 1.0
+    key = cell * stride + (mid - bottom)
+    # the slack covers rounding of the key and of mid (an entry too many is dropped below, never one too few)
+    slack = 8.0 * np.finfo(np.float64).eps * (len(starts) * stride + abs(bottom) + width + abs(float(spread)))
+    reach = mid + (spread - half - cell_half[cell]) - slack
+    first = np.searchsorted(key, cell * stride + (reach - bottom), side="right")
+    position = np.arange(len(entry))
+    end = starts[1:][cell]
+    first = np.clip(first, position + 1, end)
+    here = np.repeat(position, end - first)
+    there = np.repeat(first, end - first) + index_in_runs(end - first)
+    a, b = entry[here], entry[there]
+    keep = np.maximum(deep[a] - shallow[b], deep[b] - shallow[a]) > spread
+    return entry, cell_x, cell_y, here[keep], there[keep]
 
 
 def without_flat_groups(seg_group, seg_depth, tolerance):

@@ -241,13 +241,15 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     # Every boundary conflict needs a depth gap above the tolerance: a chart whose boundary is flatter than
     # that (a face of a box, a wall) has none, and its sides need no pairing up.
     seg_group = without_flat_groups(group[b_tri], seg_depth, depth_tolerance[b_tri])
-    loud_group = without_quiet_sides(seg, seg_depth, seg_group, margin) if margin > 4.0 * touch_most else seg_group
-    if 2 * np.count_nonzero(loud_group >= 0) <= np.count_nonzero(seg_group >= 0):
-        # Sides that touch, and sides within the margin where the depth varies by more than the margin
-        # (a conflict there needs that much): the same pairs that can conflict, from far fewer candidates
-        # where most sides are quiet (an interior's boxes, flat or not, at any margin).
-        pairs = unique_rows(np.concatenate([candidate_pairs(seg, seg_group, 2.0 * touch_most, query=fresh),
-                                            candidate_pairs(seg, loud_group, margin, query=fresh)]))
+    if margin > 4.0 * touch_most:
+        # Sides that touch, and sides within the margin whose depths spread by more than the margin (a
+        # conflict there needs that much): the same pairs that can conflict, from far fewer candidates.
+        # Quiet sides (an interior's boxes, flat or not) cannot be in such a pair at all; along a rough
+        # boundary (a scan's) most sides are loud, but their close neighbours are close in depth too.
+        loud_group = without_quiet_sides(seg, seg_depth, seg_group, margin)
+        pairs = unique_rows(np.concatenate([
+            candidate_pairs(seg, seg_group, 2.0 * touch_most, query=fresh),
+            candidate_pairs(seg, loud_group, margin, query=fresh, depth=seg_depth, spread=margin)]))
     else:
         pairs = candidate_pairs(seg, seg_group, max(touch_most, margin), query=fresh)
     if len(pairs):

@@ -195,6 +195,28 @@ def test_candidate_pairs_miss_no_pair_whose_boxes_come_within_the_margin(seed, c
     assert np.array_equal(asked, expected[query[expected[:, 0]] | query[expected[:, 1]]])
 
 
+@pytest.mark.parametrize("seed, corners, margin, spread", [(0, 2, 0.5, 0.8), (1, 3, 0.3, 0.0), (2, 2, 2.0, 2.5),
+                                                          (3, 2, 0.0, 1.0), (4, 2, 1.0, -1.0)])
+def test_candidate_pairs_by_depth_are_the_pairs_within_the_margin_whose_depths_spread_further(
+        seed, corners, margin, spread):
+    """With depths, against the brute-force judge: exactly the pairs whose boxes come within the margin and whose
+    depth spread (deepest of one less shallowest of the other) exceeds ``spread``, with or without a query; some
+    shapes have depth ranges wider than the spread, some share one depth."""
+    from plane_judge import boxes_within_brute
+    rng = np.random.default_rng(seed)
+    shapes, group = random_layout(rng, 700, corners)
+    depth = rng.normal(0, 1.5, (len(shapes), 1)) + rng.exponential(0.3, (len(shapes), corners))
+    depth[rng.random(len(shapes)) < 0.1] = 0.25
+    near = boxes_within_brute(shapes, group, margin)
+    a, b = near[:, 0], near[:, 1]
+    expected = near[np.maximum(depth[a].max(1) - depth[b].min(1), depth[b].max(1) - depth[a].min(1)) > spread]
+    assert 100 < len(expected) < len(near) or spread < 0
+    assert np.array_equal(candidate_pairs(shapes, group, margin, depth=depth, spread=spread), expected)
+    query = rng.random(len(shapes)) < 0.1
+    asked = candidate_pairs(shapes, group, margin, query=query, depth=depth, spread=spread)
+    assert np.array_equal(asked, expected[query[expected[:, 0]] | query[expected[:, 1]]])
+
+
 def test_the_layout_judge_on_closed_form_cases():
     """tests/support/plane_judge.py, which judges layouts in other tests, on cases with known answers."""
     from plane_judge import interiors_overlap, overlap_point, triangle_distance
