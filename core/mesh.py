@@ -11,7 +11,7 @@ from functools import cached_property
 import numpy as np
 
 from .errors import SeamlessAOError
-from .graph import connected_components, group_starts, scatter_rows
+from .graph import connected_components, group_starts, scatter_rows, sort_order
 
 
 #: Triangles with less area than this times the squared mesh size are degenerate.
@@ -381,11 +381,15 @@ class MeshReport:
 
 def duplicate_triangle_count(welded_triangles):
     """Triangles whose welded vertex set repeats an earlier triangle's (either winding)."""
-    if not len(welded_triangles):
+    triangles = np.asarray(welded_triangles, dtype=np.int64).reshape(-1, 3)
+    if not len(triangles):
         return 0
-    keys = np.sort(welded_triangles, axis=1)
-    keys = keys[np.lexsort(keys.T[::-1])]
-    return int((keys[1:] == keys[:-1]).all(axis=1).sum())
+    a, b, c = triangles.T
+    low, high = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
+    middle = a + b + c - low - high
+    order = sort_order(low, middle, high)             # one folded int64 key where the ranges allow
+    low, middle, high = low[order], middle[order], high[order]
+    return int(((low[1:] == low[:-1]) & (middle[1:] == middle[:-1]) & (high[1:] == high[:-1])).sum())
 
 
 def require_faces(mesh):

@@ -12,7 +12,7 @@ from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.graph import Adjacency, sort_order
-from seamless_ao.core.mesh import sanitized_normals, weld_vertices
+from seamless_ao.core.mesh import duplicate_triangle_count, sanitized_normals, weld_vertices
 from seamless_ao.core.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
 from seamless_ao.core.geometry2d import segment_distance, triangle_angles
 from seamless_ao.core.packing import SMALL_TEXELS, density_filling
@@ -417,3 +417,23 @@ def test_the_cycles_caster_refuses_by_name_what_cycles_ao_cannot_do(name, value)
     BakeSettings.from_kwargs(**{name: value})                          # fine with the Geometry Nodes caster
     with pytest.raises(SeamlessAOError, match="The Cycles ray caster cannot bake with {} = ".format(name)):
         BakeSettings.from_kwargs(ray_caster="CYCLES", **{name: value})
+
+
+@pytest.mark.parametrize("vertices", [6, 40, 1 << 40])
+def test_duplicate_triangle_count_counts_repeats_of_a_vertex_set_in_any_order(vertices):
+    """Against a set of sorted vertex triples: a triangle is a duplicate when an earlier one has its three
+    vertices in any order (either winding); with 2**40 vertex ids the keys cannot fold into one int64."""
+    rng = np.random.default_rng(vertices % 97)
+    base = rng.choice(min(vertices, 1 << 20), (300, 3), replace=True) * (vertices // min(vertices, 1 << 20))
+    base = base[(base[:, 0] != base[:, 1]) & (base[:, 1] != base[:, 2]) & (base[:, 0] != base[:, 2])]
+    repeats = base[rng.integers(0, len(base), 120)]
+    repeats = np.take_along_axis(repeats, np.argsort(rng.random(repeats.shape), axis=1), axis=1)  # any order
+    triangles = np.concatenate([base, repeats])[rng.permutation(len(base) + 120)]
+    seen, expected = set(), 0
+    for triangle in triangles:
+        key = tuple(sorted(int(v) for v in triangle))
+        expected += key in seen
+        seen.add(key)
+    assert expected >= 100
+    assert duplicate_triangle_count(triangles) == expected
+    assert duplicate_triangle_count(np.zeros((0, 3), dtype=np.int64)) == 0
