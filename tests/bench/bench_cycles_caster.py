@@ -1,6 +1,7 @@
 """Benchmark: the Cycles ray caster against the Geometry Nodes caster, through the bake operator.
 
     .venv/5.0/bin/python tests/bench/bench_cycles_caster.py [--runs 3] [--meshes suzanne scan interior]
+        [--settings 256x32 256x64 512x32 512x64 1024x64]
 
 Ray Caster *Cycles* casts each texel's pilot rays and the creases with the
 Geometry Nodes Raycast node and hands the remaining rays to Cycles' AO bake
@@ -25,9 +26,9 @@ from accuracy import errors, shown_seamless
 from report import fresh, reference, seamless_bake
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
-#: (image size, rays per texel): the node casts the first core/settings.py BULK_PILOT_RAYS rays of each texel,
-#: Cycles the rest.
-SETTINGS = [(256, 32), (256, 64), (512, 32), (512, 64)]
+#: "<image size>x<rays per texel>": the node casts the first core/settings.py BULK_PILOT_RAYS rays of each
+#: texel, Cycles the rest.  1024x64 is the bake's default.
+SETTINGS = ["256x32", "256x64", "512x32", "512x64", "1024x64"]
 CASTERS = [("GEOMETRY_NODES", "Geometry Nodes"), ("CYCLES", "Cycles")]
 
 
@@ -36,7 +37,9 @@ def main():
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--meshes", nargs="+", default=["suzanne", "scan", "interior"])
     parser.add_argument("--work-dir", default="out/bench", help="the reference cache (shared with report.py)")
+    parser.add_argument("--settings", nargs="+", default=SETTINGS, help="image size x rays, e.g. 1024x64")
     args = parser.parse_args()
+    settings = [tuple(int(n) for n in setting.split("x")) for setting in args.settings]
     cache = pathlib.Path(args.work_dir)
     cache.mkdir(parents=True, exist_ok=True)
     rows = []
@@ -46,7 +49,7 @@ def main():
         triangle, bary, normals, ref, _ = reference(ob, mesh, cache)
         for caster, _ in CASTERS:                                   # warm-up: Cycles' kernels, the node group
             seamless_bake(ob, image_size=256, rays=32, ray_caster=caster)
-        for image_size, rays in SETTINGS:
+        for image_size, rays in settings:
             row = [name, "{}², {}".format(image_size, rays)]
             totals = []
             for caster, _ in CASTERS:
