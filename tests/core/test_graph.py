@@ -1,0 +1,44 @@
+"""core/graph.py's connected components against a plain search."""
+
+import numpy as np
+import pytest
+
+from seamless_ao.core.graph import connected_components
+
+
+@pytest.mark.parametrize("nodes, edge_count", [(1, 0), (9, 0), (30, 12), (200, 150), (500, 2000), (300, -1)])
+def test_connected_components_match_a_search_from_each_smallest_node(nodes, edge_count):
+    """Against a breadth-first search from each not yet labelled node in ascending order: the same
+    components, numbered in order of their smallest node, whatever the edges' order and integer type
+    (self-loops and repeats included).  ``edge_count`` -1: two long paths through shuffled nodes joined
+    by one edge (many rounds of hooking, the last ones with a few edges left)."""
+    rng = np.random.default_rng(nodes + edge_count)
+    if edge_count < 0:
+        path = rng.permutation(nodes)
+        edges = np.stack([path[:-1], path[1:]], axis=1)
+        edges = np.concatenate([np.delete(edges, nodes // 2, axis=0)[rng.permutation(nodes - 2)],
+                                edges[nodes // 2:nodes // 2 + 1]])
+        edge_count = len(edges)
+    else:
+        edges = rng.integers(0, nodes, (edge_count, 2))
+    edges = np.concatenate([edges, edges[: edge_count // 5, ::-1], np.repeat(np.arange(min(nodes, 5)), 2).reshape(-1, 2)])
+    neighbours = [[] for _ in range(nodes)]
+    for a, b in edges:
+        neighbours[a].append(b)
+        neighbours[b].append(a)
+    expected = np.full(nodes, -1)
+    label = 0
+    for start in range(nodes):
+        if expected[start] >= 0:
+            continue
+        expected[start], queue = label, [start]
+        while queue:
+            for other in neighbours[queue.pop()]:
+                if expected[other] < 0:
+                    expected[other] = label
+                    queue.append(other)
+        label += 1
+    for given in (edges, edges[rng.permutation(len(edges))].astype(np.int32), edges.tolist()):
+        labels = connected_components(nodes, given)
+        assert labels.dtype == np.int64
+        assert np.array_equal(labels, expected)
