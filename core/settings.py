@@ -45,6 +45,9 @@ SIZE_MODE_ITEMS = (
 BULK_PILOT_RAYS = 4
 
 CASTER_ITEMS = (
+    ("AUTOMATIC", "Automatic", "Cycles when the settings are classic AO and there are more than {} rays per texel "
+     "(no falloff, full hemisphere, cosine rays, back faces occlude, no ground plane, no horizon bias), Geometry "
+     "Nodes otherwise".format(BULK_PILOT_RAYS)),
     ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (every setting)"),
     ("PYTHON_BVH", "Python BVH", "A Python loop over mathutils' BVHTree.ray_cast on one core (reference)"),
     ("CYCLES", "Cycles", "Geometry Nodes for each texel's first {} rays and to find the creases, then Cycles' AO "
@@ -192,6 +195,15 @@ class BakeSettings(_Settings):
                         "The Cycles ray caster cannot bake with {} = {!r}: {}. Set it to {!r}, or choose the "
                         "Geometry Nodes caster.".format(name, getattr(self, name), reason, needed))
         return self
+
+    def caster(self):
+        """The ray caster a bake uses: ``ray_caster``, with ``AUTOMATIC`` resolved to ``CYCLES`` when Cycles can
+        follow every setting (:data:`CYCLES_NEEDS`) and has rays to cast (more than :data:`BULK_PILOT_RAYS` per
+        texel), else to ``GEOMETRY_NODES``."""
+        if self.ray_caster != "AUTOMATIC":
+            return self.ray_caster
+        classic = all(getattr(self, name) == needed for name, needed, _ in CYCLES_NEEDS)
+        return "CYCLES" if classic and self.rays > BULK_PILOT_RAYS else "GEOMETRY_NODES"
 
 
 PACKING_ITEMS = (

@@ -158,7 +158,8 @@ def free_casters(casters):
 def caster_maker(settings):
     """What makes a bake's casters, ``(positions, triangles, sealed) -> caster``: the Geometry Nodes caster,
     core's Python loop over mathutils' BVH, or the Cycles caster (:mod:`.cycles_caster`), as
-    ``settings.ray_caster`` says."""
-    if settings.ray_caster == "CYCLES":
+    ``settings.caster()`` says (``ray_caster``, Automatic resolved)."""
+    caster = settings.caster()
+    if caster == "CYCLES":
         return CyclesCaster
-    return BVHCaster if settings.ray_caster == "PYTHON_BVH" else NodesCaster
+    return BVHCaster if caster == "PYTHON_BVH" else NodesCaster

@@ -129,3 +129,19 @@ def test_a_cycles_bake_is_as_near_the_plain_reference_as_a_geometry_nodes_bake(a
     # the reference's own noise at 1024 rays is about 0.016 per point at AO 1/2, 0.0005 in the mean
     assert cycles_rmse <= nodes_rmse + 0.003, measured
     assert abs(cycles_mean) <= abs(nodes_mean) + 0.003, measured
+
+
+def test_the_automatic_caster_takes_cycles_where_it_can_and_the_node_where_it_cannot(addon, fresh_scene):
+    """Ray Caster Automatic: Cycles at classic AO with rays beyond the pilot; with a falloff (which Cycles'
+    AO cannot follow) or no rays beyond the pilot it bakes with the node, and refuses neither."""
+    from seamless_ao.core.settings import BULK_PILOT_RAYS
+    from seamless_ao.operators.adapters.casters import NodesCaster
+
+    head = suzanne(1)
+    chosen = {}
+    for name, settings in (("classic", {}), ("falloff", dict(falloff="LINEAR")),
+                           ("pilot only", dict(rays=BULK_PILOT_RAYS))):
+        report = addon.bake([head], **dict(dict(image_size=256, rays=16, ray_caster="AUTOMATIC"), **settings))
+        chosen[name] = report.caster
+    assert chosen == {"classic": CyclesCaster.name, "falloff": NodesCaster.name,
+                      "pilot only": NodesCaster.name}, chosen

@@ -18,7 +18,7 @@ from seamless_ao.core.geometry2d import segment_distance, triangle_angles
 from seamless_ao.core.packing import SMALL_TEXELS, density_filling
 from seamless_ao.core.png import encode_png
 from seamless_ao.core.rays import AOParams, ao_params
-from seamless_ao.core.settings import BakeSettings, ExportSettings
+from seamless_ao.core.settings import BULK_PILOT_RAYS, BakeSettings, ExportSettings
 
 
 def decode_png(data):
@@ -417,6 +417,16 @@ def test_the_cycles_caster_refuses_by_name_what_cycles_ao_cannot_do(name, value)
     BakeSettings.from_kwargs(**{name: value})                          # fine with the Geometry Nodes caster
     with pytest.raises(SeamlessAOError, match="The Cycles ray caster cannot bake with {} = ".format(name)):
         BakeSettings.from_kwargs(ray_caster="CYCLES", **{name: value})
+    # Automatic never refuses: it takes the Geometry Nodes caster instead
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", **{name: value}).caster() == "GEOMETRY_NODES"
+
+
+def test_the_automatic_caster_is_cycles_for_classic_ao_with_rays_beyond_the_pilot():
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC").caster() == "CYCLES"
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS + 1).caster() == "CYCLES"
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS).caster() == "GEOMETRY_NODES"
+    for chosen in ("GEOMETRY_NODES", "PYTHON_BVH", "CYCLES"):
+        assert BakeSettings.from_kwargs(ray_caster=chosen, rays=1).caster() == chosen
 
 
 @pytest.mark.parametrize("vertices", [6, 40, 1 << 40])
