@@ -119,7 +119,9 @@ class BakePipeline:
             while not job.finished:
                 fraction = job.step()
                 yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)
-            caster = self.parts[0].caster.name
+            # a caster that bakes whole texels but had too few rays to be given any cast them all as its pilot
+            first = self.parts[0].caster
+            caster = first.name if job.whole_parts.any() else getattr(first, "pilot_name", first.name)
             self.free()
             ao = job.ao
             seen = job.computed & ~job.buried

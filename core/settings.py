@@ -152,7 +152,7 @@ class BakeSettings(_Settings):
         "Other visible mesh objects of the scene within the maximum ray distance also occlude (contact shadows)")
     use_ground_plane: bool = _setting(
         False, "Ground Plane", "An infinite horizontal plane at the object's lowest point occludes")
-    ray_caster: str = _setting("GEOMETRY_NODES", "Ray Caster",
+    ray_caster: str = _setting("AUTOMATIC", "Ray Caster",
                                "How rays are cast (Geometry Nodes and Python BVH give the same result)",
                                items=CASTER_ITEMS)
 

@@ -136,6 +136,8 @@ class CyclesCaster(CyclesAmbientOcclusion, NodesCaster):
     (:mod:`.cycles_caster`), which :class:`...core.job.AOJob` hands all but the pilot rays to."""
 
     name = "cycles"
+    #: What cast every ray when no part had enough rays left after the pilot for Cycles (core/job.py).
+    pilot_name = NodesCaster.name
 
 
 def free_casters(casters):

@@ -46,6 +46,11 @@ class BakedObject:
     through_stack: bool
 
 
+#: What the bake report calls each caster (by its ``name``): with Ray Caster Automatic it says which one baked.
+CASTER_LABELS = {"geometry-nodes": "Geometry Nodes", "cycles": "Geometry Nodes (first rays) and Cycles",
+                 "bvh-loop": "Python BVH"}
+
+
 @dataclasses.dataclass
 class BakeReport:
     """What a bake did (also stored on the scene for the panel)."""
@@ -71,6 +76,7 @@ class BakeReport:
             ", ".join(self.objects), self.seconds, self.width, self.height, self.image, self.texels, self.rays,
             self.utilisation)
         text += ", ray noise before denoising about {:.3f}".format(self.noise)
+        text += ", rays cast by {}".format(CASTER_LABELS.get(self.caster, self.caster))
         if self.mesh_problems:
             text += "; handled: " + ", ".join(self.mesh_problems)
         return text

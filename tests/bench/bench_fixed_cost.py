@@ -13,8 +13,9 @@ operator's whole time less its rays stage: reading the mesh, layout,
 caster, denoising and writing UV maps, image and materials. Atlas use is the
 report's own (the share of the image the charts cover). The ray rate is the
 rays cast over the rays stage at 512², 16 rays, with each ray caster a user
-can pick for speed: Geometry Nodes (the default) and Cycles (which casts each
-texel's rays after the first few; docs/how-it-works.md).
+can pick for speed: Geometry Nodes and Cycles (which casts each texel's rays
+after the first few; docs/how-it-works.md). Ray Caster Automatic, the default,
+is Cycles at 16 rays and Geometry Nodes at the fixed cost's 4.
 """
 
 import argparse

@@ -133,15 +133,22 @@ def test_a_cycles_bake_is_as_near_the_plain_reference_as_a_geometry_nodes_bake(a
 
 def test_the_automatic_caster_takes_cycles_where_it_can_and_the_node_where_it_cannot(addon, fresh_scene):
     """Ray Caster Automatic: Cycles at classic AO with rays beyond the pilot; with a falloff (which Cycles'
-    AO cannot follow) or no rays beyond the pilot it bakes with the node, and refuses neither."""
+    AO cannot follow) or no rays beyond the pilot it bakes with the node, and refuses neither.  With too few
+    rays after the pilot for Cycles to pay off (core/job.py's BULK_LEAST_RAYS) the node casts them all, and
+    the report says so."""
+    from seamless_ao.core.job import BULK_LEAST_RAYS
     from seamless_ao.core.settings import BULK_PILOT_RAYS
     from seamless_ao.operators.adapters.casters import NodesCaster
 
     head = suzanne(1)
     chosen = {}
     for name, settings in (("classic", {}), ("falloff", dict(falloff="LINEAR")),
-                           ("pilot only", dict(rays=BULK_PILOT_RAYS))):
-        report = addon.bake([head], **dict(dict(image_size=256, rays=16, ray_caster="AUTOMATIC"), **settings))
+                           ("pilot only", dict(rays=BULK_PILOT_RAYS)), ("few", dict(rays=BULK_PILOT_RAYS + 2))):
+        report = addon.bake([head], **dict(dict(image_size=256, rays=32, ray_caster="AUTOMATIC"), **settings))
         chosen[name] = report.caster
+        if name == "classic":
+            assert report.texels * (32 - BULK_PILOT_RAYS) > BULK_LEAST_RAYS > report.texels * 2
     assert chosen == {"classic": CyclesCaster.name, "falloff": NodesCaster.name,
-                      "pilot only": NodesCaster.name}, chosen
+                      "pilot only": NodesCaster.name, "few": NodesCaster.name}, chosen
+    assert "rays cast by Geometry Nodes (first rays) and Cycles" in addon.bake(
+        [head], image_size=256, rays=32).summary()

@@ -1,7 +1,8 @@
 """Issue 27: the same object bakes the same wherever it stands.  Suzanne (her eyes intersect her head, so the
 buried-texel pass matters) baked as is, moved, rotated, mirrored (scale -1, not applied) and beside a far
 occluder: moved and far are the same image bit for bit, and mirrored is within the rotated bake's noise
-(before per-piece sealing with the transform's handedness, a mirrored bake buried nothing: up to 0.17 apart)."""
+(before per-piece sealing with the transform's handedness, a mirrored bake buried nothing: up to 0.17 apart).
+With each ray caster that can take these settings: Geometry Nodes, and Cycles (Ray Caster Automatic's choice)."""
 
 import bpy
 import numpy as np
@@ -25,11 +26,11 @@ PLACEMENTS = {
 }
 
 
-@pytest.fixture(scope="module")
-def bakes():
+@pytest.fixture(scope="module", params=["GEOMETRY_NODES", "CYCLES"])
+def bakes(request):
     """Each placement's image, what it shows at 1,500 visible points of Suzanne (object space), and how many
-    texels it found buried inside another piece (her eyes in her head)."""
-    results = {}
+    texels it found buried inside another piece (her eyes in her head); and the ray caster."""
+    results = {"caster": request.param}
     for name, placement in PLACEMENTS.items():
         bpy.ops.wm.read_factory_settings(use_empty=True)
         seamless_ao.register()
@@ -41,7 +42,8 @@ def bakes():
             if placement.get("far_occluder"):
                 bpy.ops.mesh.primitive_cube_add(size=2.0, location=(60.0, 0.0, 0.0))
             bpy.context.view_layer.update()
-            session = BakeSession([ob], BakeSettings(use_scene_occluders=True, **SETTINGS))
+            session = BakeSession([ob], BakeSettings(use_scene_occluders=True, ray_caster=request.param,
+                                                     **SETTINGS))
             report = session.run()
             image = bpy.data.images[report.image]
             mesh, loops = read_triangles(ob.data)
@@ -61,7 +63,7 @@ def test_a_moved_object_and_one_beside_a_far_occluder_bake_the_same_image_bit_fo
 
 def test_a_mirrored_object_finds_the_texels_buried_inside_another_piece(bakes):
     """The layout is in object space, the same for every placement: the same texels lie inside the head."""
-    buried = {name: result[2] for name, result in bakes.items()}
+    buried = {name: bakes[name][2] for name in PLACEMENTS}
     print(buried)
     assert buried["as is"] > 50
     for name in ("rotated", "mirrored"):
@@ -75,7 +77,11 @@ def test_a_mirrored_object_bakes_within_the_noise_of_a_rotated_one(bakes):
     noise.  With the first padding ring's rays halved (15e8cdd), seeds 0-4 gave the mirrored bake a larger
     single worst point than the rotated one twice (0.0484 against 0.0463, 0.0695 against 0.0641; its next
     largest 0.0329 and 0.0426), at 2/3 of its RMS.  Without sealing in the mirrored bake's handedness
-    (faces wound as in object space) its 99.9th percentile was 0.234 and 0.245 against 0.041 and 0.059."""
+    (faces wound as in object space) its 99.9th percentile was 0.234 and 0.245 against 0.041 and 0.059.
+    With the Cycles caster the two differ by the same noise, either way round: over seeds 0-4 the mirrored
+    bake's RMS was 0.89-1.04 times the rotated one's and its 99.9th percentile 0.80-1.14 times, so there it
+    may be up to 1.25 times (the fault above made it 4 to 6 times)."""
+    allowed = 1.0 if bakes["caster"] == "GEOMETRY_NODES" else 1.25
     plain = bakes["as is"][1]
     rotated = bakes["rotated"][1] - plain
     mirrored = bakes["mirrored"][1] - plain
@@ -84,5 +90,5 @@ def test_a_mirrored_object_bakes_within_the_noise_of_a_rotated_one(bakes):
     print("rotated: RMS {:.4f}, p99.9 {:.4f}, max {:.4f}; mirrored: RMS {:.4f}, p99.9 {:.4f}, max {:.4f}".format(
         rms(rotated), worst(rotated), np.abs(rotated).max(), rms(mirrored), worst(mirrored), np.abs(mirrored).max()))
     assert 0.0 < rms(rotated)                                            # the rotated bake did cast other rays
-    assert rms(mirrored) <= rms(rotated)
-    assert worst(mirrored) <= worst(rotated)
+    assert rms(mirrored) <= allowed * rms(rotated)
+    assert worst(mirrored) <= allowed * worst(rotated)
