@@ -134,15 +134,17 @@ def _pairs_apart_in_depth(entry, cell_x, cell_y, starts, depth, spread):
     entry, cell_x, cell_y : (k,) int64, reordered by depth within each cell
     here, there : (p,) int64, positions of the pairs' entries (either may be first)
     """
+    if not len(entry):
+        return entry, cell_x, cell_y, entry, entry
     shallow, deep = depth.min(axis=1), depth.max(axis=1)
     mid, half = 0.5 * (shallow + deep)[entry], 0.5 * (deep - shallow)[entry]
     cell = np.repeat(np.arange(len(starts) - 1), np.diff(starts))
     order = np.lexsort((mid, cell))
     entry, cell_x, cell_y, mid, half = entry[order], cell_x[order], cell_y[order], mid[order], half[order]
-    cell_half = np.maximum.reduceat(half, starts[:-1]) if len(entry) else half
+    cell_half = np.maximum.reduceat(half, starts[:-1])
     # one sorted float key for (cell, mid): cells a stride apart, wider than any reach
-    bottom = float(mid.min()) if len(mid) else 0.0
-    width = float(mid.max()) - bottom if len(mid) else 0.0
+    bottom = float(mid.min())
+    width = float(mid.max()) - bottom
     stride = (2.0 * width + abs(float(spread))) or 1.0
     key = cell * stride + (mid - bottom)
     # the slack covers rounding of the key and of mid (an entry too many is dropped below, never one too few)

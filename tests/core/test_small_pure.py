@@ -215,6 +215,7 @@ def test_candidate_pairs_by_depth_are_the_pairs_within_the_margin_whose_depths_s
     query = rng.random(len(shapes)) < 0.1
     asked = candidate_pairs(shapes, group, margin, query=query, depth=depth, spread=spread)
     assert np.array_equal(asked, expected[query[expected[:, 0]] | query[expected[:, 1]]])
+    assert not len(candidate_pairs(shapes, group, margin, query=query & False, depth=depth, spread=spread))
 
 
 def test_the_layout_judge_on_closed_form_cases():
