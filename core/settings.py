@@ -44,15 +44,16 @@ SIZE_MODE_ITEMS = (
 #: closed piece every ray meets its back faces, so a few tell the buried texels (core/ao.py's ``buried``).
 BULK_PILOT_RAYS = 4
 
+#: A .blend stores an enum setting as its item's position: new items go at the end, never in between.
 CASTER_ITEMS = (
-    ("AUTOMATIC", "Automatic", "Cycles when the settings are classic AO and there are more than {} rays per texel "
-     "(no falloff, full hemisphere, cosine rays, back faces occlude, no ground plane, no horizon bias), Geometry "
-     "Nodes otherwise".format(BULK_PILOT_RAYS)),
     ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (every setting)"),
     ("PYTHON_BVH", "Python BVH", "A Python loop over mathutils' BVHTree.ray_cast on one core (reference)"),
     ("CYCLES", "Cycles", "Geometry Nodes for each texel's first {} rays and to find the creases, then Cycles' AO "
      "bake on all cores for the rest, with no adaptive stop (faster in closed rooms and on large scans; classic AO "
      "only: no falloff, full hemisphere, cosine rays, back faces occlude, no ground plane)".format(BULK_PILOT_RAYS)),
+    ("AUTOMATIC", "Automatic", "Cycles when the settings are classic AO and there are more than {} rays per texel "
+     "(no falloff, full hemisphere, cosine rays, back faces occlude, no ground plane, no horizon bias), Geometry "
+     "Nodes otherwise".format(BULK_PILOT_RAYS)),
 )
 
 #: What the Cycles caster cannot do: (setting, the value it needs, the sentence that says so).
@@ -138,7 +139,7 @@ class BakeSettings(_Settings):
     adaptive: bool = _setting(
         True, "Adaptive Sampling",
         "Stop a texel after the first quarter of its rays when they and its neighbours' all agree "
-        "(all open or all blocked)")
+        "(all open or all blocked); the rays Cycles casts get no such stop")
     weighted_rays: bool = _setting(
         False, "Weighted Rays",
         "Give a texel rays in proportion to the weight the blend shows it with (half as many at weight 1/2 "

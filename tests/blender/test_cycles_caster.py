@@ -152,3 +152,16 @@ def test_the_automatic_caster_takes_cycles_where_it_can_and_the_node_where_it_ca
                       "pilot only": NodesCaster.name, "few": NodesCaster.name}, chosen
     assert "rays cast by Geometry Nodes (first rays) and Cycles" in addon.bake(
         [head], image_size=256, rays=32).summary()
+
+
+def test_a_ray_caster_saved_before_automatic_existed_reads_back_as_it_was_chosen(addon, fresh_scene):
+    """A .blend stores the Ray Caster as its item's position: those of Geometry Nodes, Python BVH and Cycles,
+    as files saved before Automatic was added hold them, still read as those casters; a scene that never set
+    it reads the default, Automatic."""
+    import bpy
+
+    settings = bpy.context.scene.seamless_ao
+    assert settings.ray_caster == "AUTOMATIC"
+    for stored, chosen in enumerate(("GEOMETRY_NODES", "PYTHON_BVH", "CYCLES")):
+        settings["ray_caster"] = stored                  # what loading such a file sets
+        assert settings.ray_caster == chosen
