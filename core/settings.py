@@ -198,13 +198,21 @@ class BakeSettings(_Settings):
         return self
 
     def caster(self):
-        """The ray caster a bake uses: ``ray_caster``, with ``AUTOMATIC`` resolved to ``CYCLES`` when Cycles can
-        follow every setting (:data:`CYCLES_NEEDS`) and has rays to cast (more than :data:`BULK_PILOT_RAYS` per
-        texel), else to ``GEOMETRY_NODES``."""
+        """The ray caster a bake uses: ``ray_caster``, Automatic resolved (:meth:`caster_choice`)."""
+        return self.caster_choice()[0]
+
+    def caster_choice(self):
+        """``(caster, why)``: ``ray_caster``, with ``AUTOMATIC`` resolved to ``CYCLES`` when Cycles can follow
+        every setting (:data:`CYCLES_NEEDS`) and has rays to cast (more than :data:`BULK_PILOT_RAYS` per texel),
+        else to ``GEOMETRY_NODES``; ``why`` says so in a few words for the panel (empty for a chosen caster)."""
         if self.ray_caster != "AUTOMATIC":
-            return self.ray_caster
-        classic = all(getattr(self, name) == needed for name, needed, _ in CYCLES_NEEDS)
-        return "CYCLES" if classic and self.rays > BULK_PILOT_RAYS else "GEOMETRY_NODES"
+            return self.ray_caster, ""
+        for name, needed, reason in CYCLES_NEEDS:
+            if getattr(self, name) != needed:
+                return "GEOMETRY_NODES", reason
+        if self.rays <= BULK_PILOT_RAYS:
+            return "GEOMETRY_NODES", "the node casts each texel's first {} rays itself".format(BULK_PILOT_RAYS)
+        return "CYCLES", "all but each texel's first {} rays".format(BULK_PILOT_RAYS)
 
 
 PACKING_ITEMS = (

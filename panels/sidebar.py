@@ -3,6 +3,7 @@
 import bpy
 
 from ..core.settings import CYCLES_NEEDS
+from ..operators.adapters.scene_settings import automatic_caster_line
 from ..operators.ui.poll import stale_bakes
 
 #: Settings the Cycles ray caster cannot follow or does not use: drawn inactive while it is chosen.
@@ -95,6 +96,12 @@ class VIEW3D_PT_seamless_ao_rays(SubPanel, bpy.types.Panel):
 class VIEW3D_PT_seamless_ao_occluders(SubPanel, bpy.types.Panel):
     bl_label = "Occluders"
     settings = ("use_scene_occluders", "use_ground_plane", "ignore_backfaces", "horizon_bias", "ray_caster")
+
+    def draw(self, context):
+        super().draw(context)
+        line = automatic_caster_line(context.scene.seamless_ao)
+        if line:
+            self.layout.label(text=line, icon="INFO")
 
 
 class VIEW3D_PT_seamless_ao_image(SubPanel, bpy.types.Panel):

@@ -1,7 +1,8 @@
 """The scene's saved Seamless AO settings (``scene.seamless_ao``, or an operator's properties) read into
 the core's :class:`~...core.settings.BakeSettings` and ``ExportSettings``."""
 
-from ...core.settings import BakeSettings, ExportSettings, export_fields, setting_fields
+from ...core.errors import SeamlessAOError
+from ...core.settings import CASTER_ITEMS, BakeSettings, ExportSettings, export_fields, setting_fields
 
 
 def settings_from(source, overrides=None):
@@ -15,6 +16,19 @@ def settings_from(source, overrides=None):
             if overrides.properties.is_property_set(f.name):
                 values[f.name] = getattr(overrides, f.name)
     return BakeSettings.from_kwargs(**values)
+
+
+def automatic_caster_line(source):
+    """What Ray Caster Automatic will cast with, as the panel says it under the setting ("Automatic: Cycles,
+    all but ..."); None when a caster is chosen, or while the settings are invalid (the bake says why)."""
+    if source.ray_caster != "AUTOMATIC":
+        return None
+    try:
+        caster, why = settings_from(source).caster_choice()
+    except SeamlessAOError:
+        return None
+    label = {item[0]: item[1] for item in CASTER_ITEMS}[caster]
+    return "Automatic: {}, {}".format(label, why)
 
 
 def scene_export_settings(scene):

@@ -165,3 +165,23 @@ def test_a_ray_caster_saved_before_automatic_existed_reads_back_as_it_was_chosen
     for stored, chosen in enumerate(("GEOMETRY_NODES", "PYTHON_BVH", "CYCLES")):
         settings["ray_caster"] = stored                  # what loading such a file sets
         assert settings.ray_caster == chosen
+
+
+def test_the_panel_says_what_automatic_will_cast_with_and_why(addon, fresh_scene):
+    """The Occluders panel's line under Ray Caster, read from the scene's settings as the panel reads them:
+    Cycles at the defaults, the node with the reason when a setting (or the ray count) rules Cycles out,
+    nothing for a chosen caster or invalid settings."""
+    import bpy
+
+    from seamless_ao.operators.adapters.scene_settings import automatic_caster_line
+
+    settings = bpy.context.scene.seamless_ao
+    assert automatic_caster_line(settings) == "Automatic: Cycles, all but each texel's first 4 rays"
+    settings.falloff = "LINEAR"
+    assert automatic_caster_line(settings) == "Automatic: Geometry Nodes, Cycles' AO has no falloff"
+    settings.falloff, settings.rays = "NONE", 4
+    assert automatic_caster_line(settings).startswith("Automatic: Geometry Nodes, the node casts")
+    settings.auto_distance, settings.max_distance = False, 0.0          # invalid: the bake will say why
+    assert automatic_caster_line(settings) is None
+    settings.auto_distance, settings.ray_caster = True, "GEOMETRY_NODES"
+    assert automatic_caster_line(settings) is None
