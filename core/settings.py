@@ -189,13 +189,17 @@ class BakeSettings(_Settings):
             raise SeamlessAOError(
                 "max_distance must be greater than 0 (got {}); turn on auto_distance to derive it "
                 "from the object's size".format(self.max_distance))
-        if self.ray_caster == "CYCLES":
-            for name, needed, reason in CYCLES_NEEDS:
-                if getattr(self, name) != needed:
-                    raise SeamlessAOError(
-                        "The Cycles ray caster cannot bake with {} = {!r}: {}. Set it to {!r}, or choose the "
-                        "Geometry Nodes caster.".format(name, getattr(self, name), reason, needed))
+        unfollowed = self.cycles_cannot_follow()
+        if self.ray_caster == "CYCLES" and unfollowed:
+            name, needed, reason = unfollowed
+            raise SeamlessAOError(
+                "The Cycles ray caster cannot bake with {} = {!r}: {}. Set it to {!r}, or choose the "
+                "Geometry Nodes caster.".format(name, getattr(self, name), reason, needed))
         return self
+
+    def cycles_cannot_follow(self):
+        """The first ``(setting, value it needs, reason)`` of :data:`CYCLES_NEEDS` these settings break, or None."""
+        return next((need for need in CYCLES_NEEDS if getattr(self, need[0]) != need[1]), None)
 
     def caster(self):
         """The ray caster a bake uses: ``ray_caster``, Automatic resolved (:meth:`caster_choice`)."""
@@ -207,9 +211,9 @@ class BakeSettings(_Settings):
         else to ``GEOMETRY_NODES``; ``why`` says so in a few words for the panel (empty for a chosen caster)."""
         if self.ray_caster != "AUTOMATIC":
             return self.ray_caster, ""
-        for name, needed, reason in CYCLES_NEEDS:
-            if getattr(self, name) != needed:
-                return "GEOMETRY_NODES", reason
+        unfollowed = self.cycles_cannot_follow()
+        if unfollowed:
+            return "GEOMETRY_NODES", unfollowed[2]
         if self.rays <= BULK_PILOT_RAYS:
             return "GEOMETRY_NODES", "the node casts each texel's first {} rays itself".format(BULK_PILOT_RAYS)
         return "CYCLES", "all but each texel's first {} rays".format(BULK_PILOT_RAYS)
