@@ -7,6 +7,12 @@ along the stretch), face the same way (a crease stops it) and agree with the
 texel's value within the noise the ray count leaves (a contact shadow stops
 it).  Work goes band by band over the image rows, so memory stays linear in
 the band, not the image.
+
+How near counts is a Gaussian of the 3D distance, one texel wide in a bake
+of many rays.  A bake of a few rays per texel has so much noise left that a
+wider Gaussian lowers the error more than its blur raises it, so the width
+grows as the rays get fewer (:func:`space_sigma_for`), within a window of at
+most :data:`MAX_RADIUS` texels each side (tests/bench/bench_denoise.py).
 """
 
 import numpy as np
@@ -15,9 +21,33 @@ from .raster import texel_geometry
 
 #: Rows of texels filtered at once.
 BAND_ROWS = 256
+#: Width of the distance weight, in texels, with many rays per texel (from 8 on).
+SPACE_SIGMA = 1.0
+#: Width of the distance weight, in texels, with one ray per texel; it narrows as one over the square root of
+#: the rays.  At 256² and 512², 1 to 4 rays, it lowered the RMSE on the four report meshes, most on the smooth
+#: ones, and cost the interior 1% at 256², 4 rays (tests/bench/bench_denoise.py).
+ONE_RAY_SPACE_SIGMA = 2.8
+#: Texels each side of the filter's window, at least.
+RADIUS = 2
+#: Texels each side of the filter's window, at most: a 7x7 window weighs twice the pairs of a 5x5 one (24
+#: against 12), a 9x9 one over three times.
+MAX_RADIUS = 3
+#: The window reaches this many widths each side, rounded up, within RADIUS and MAX_RADIUS.
+WINDOW_SIGMAS = 1.65
 
 
-def denoise(texels, atlas, mesh, values, computed, rays, radius=2, space_sigma=1.0, normal_power=16.0,
+def space_sigma_for(rays):
+    """Width (texels) of the distance weight for a bake of at most ``rays`` rays per texel:
+    ``ONE_RAY_SPACE_SIGMA / sqrt(rays)``, never under :data:`SPACE_SIGMA` (from 8 rays on)."""
+    return max(SPACE_SIGMA, ONE_RAY_SPACE_SIGMA / np.sqrt(max(float(rays), 1.0)))
+
+
+def window_radius(space_sigma):
+    """Texels each side of the window for a distance weight ``space_sigma`` texels wide."""
+    return int(min(MAX_RADIUS, max(RADIUS, np.ceil(WINDOW_SIGMAS * space_sigma - 1e-9))))
+
+
+def denoise(texels, atlas, mesh, values, computed, rays, radius=None, space_sigma=None, normal_power=16.0,
             range_sigmas=2.5, geometry=None):
     """Filtered AO values.
 
@@ -29,8 +59,9 @@ def denoise(texels, atlas, mesh, values, computed, rays, radius=2, space_sigma=1
     values : (n,) float AO of every texel (only ``computed`` ones are used)
     computed : (n,) bool
     rays : int or (n,) int, rays per texel (sets the expected noise)
-    radius : int, texels each side
-    space_sigma : float, Gaussian width of the 3D distance weight, in texels
+    radius : int, texels each side; by default :func:`window_radius` of the width
+    space_sigma : float, Gaussian width of the 3D distance weight, in texels; by default
+        :func:`space_sigma_for` the most rays a computed texel has
     normal_power : float, exponent of the normal agreement (n_i . n_j)
     range_sigmas : float, value differences beyond this many noise sigmas do not blend
     geometry : callable, optional
@@ -43,6 +74,10 @@ def denoise(texels, atlas, mesh, values, computed, rays, radius=2, space_sigma=1
     (n,) float32, equal to ``values`` where not ``computed``.
     """
     width, height = texels.width, texels.height
+    if space_sigma is None:
+        most_rays = np.max(np.asarray(rays)[computed] if np.ndim(rays) else rays, initial=1)
+        space_sigma = space_sigma_for(most_rays)
+    radius = window_radius(space_sigma) if radius is None else int(radius)
     out = np.asarray(values, dtype=np.float32).copy()
     rows = texels.index // width
     sigma_space = space_sigma / max(atlas.density, 1e-300)

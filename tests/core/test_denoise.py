@@ -73,3 +73,33 @@ def test_a_crease_alone_stops_the_blur():
         bias[crease] = np.mean(pulled)
     assert bias[0.0] > 0.01, bias                       # flat: the step is blurred (the test can see a leak)
     assert bias[20.0] < 0.3 * bias[0.0], bias           # creased: (cos 40°)^16 = 0.014 of the weight crosses
+
+
+def test_the_weight_widens_as_the_rays_get_fewer():
+    """One ray leaves the most noise and gets the widest weight; from 8 rays on it is one texel in a 5x5 window,
+    and the window never grows past MAX_RADIUS."""
+    from seamless_ao.core.denoise import MAX_RADIUS, space_sigma_for, window_radius
+    widths = [space_sigma_for(rays) for rays in (1, 2, 4, 8, 64)]
+    assert widths == sorted(widths, reverse=True) and widths[0] > 2.5, widths
+    assert widths[3] == widths[4] == 1.0 and window_radius(1.0) == 2
+    assert all(2 <= window_radius(width) <= MAX_RADIUS for width in widths)
+    assert space_sigma_for(0) == space_sigma_for(1)          # a texel with no ray counts as one
+
+
+def test_a_smooth_field_of_few_rays_comes_out_closer_with_the_wider_weight():
+    """AO that changes slowly over a sheet, 2 rays per texel: the default (widened) filter lands nearer the
+    truth than the one-texel weight did, and at 8 rays the two are the same filter."""
+    xs = np.linspace(-1.0, 1.0, 41)
+    grid = np.array([(x, y, 0.0) for y in xs for x in xs])
+    truth = lambda p: 0.5 + 0.3 * np.sin(1.5 * p[:, 0]) * np.cos(1.5 * p[:, 1])  # noqa: E731
+    layout, points, exact, noisy = synthetic(grid, meshes.grid_triangles(41, 41), truth, rays=2)
+    computed = np.ones(len(layout.texels), dtype=bool)
+    error = {}
+    for name, kwargs in (("fixed", dict(radius=2, space_sigma=1.0)), ("default", {})):
+        filtered = denoise(layout.texels, layout.atlas, layout.mesh, noisy, computed, 2, **kwargs)
+        error[name] = np.sqrt(np.mean((filtered - exact) ** 2))
+    assert error["default"] < 0.8 * error["fixed"], error
+    layout, points, exact, noisy = synthetic(grid, meshes.grid_triangles(41, 41), truth, rays=8)
+    np.testing.assert_array_equal(
+        denoise(layout.texels, layout.atlas, layout.mesh, noisy, computed, np.full(len(noisy), 8)),
+        denoise(layout.texels, layout.atlas, layout.mesh, noisy, computed, 8, radius=2, space_sigma=1.0))
