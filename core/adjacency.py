@@ -75,7 +75,8 @@ def face_adjacency(mesh, weld_tolerance=WELD_TOLERANCE):
     side_triangle = np.repeat(np.arange(len(mesh.triangles), dtype=np.int64), 3)
     valid = keys >= 0
     keys, side_triangle = keys[valid], side_triangle[valid]
-    order = sort_order(keys, mesh.triangle_face[side_triangle])
+    # entries with equal keys are the same side of the same face: their order cannot matter
+    order = sort_order(keys, mesh.triangle_face[side_triangle], stable=False)
     keys, side_face = keys[order], mesh.triangle_face[side_triangle[order]]
     sides_per_edge = np.diff(group_starts(keys))
 

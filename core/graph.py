@@ -62,8 +62,8 @@ def index_in_runs(counts):
     return np.arange(int(counts.sum()), dtype=np.int64) - np.repeat(np.cumsum(counts) - counts, counts)
 
 
-def sort_order(*keys):
-    """Stable order sorting by several non-negative integer keys, most significant first.
+def sort_order(*keys, stable=True):
+    """Order sorting by several non-negative integer keys, most significant first.
 
     The same as ``np.lexsort(keys[::-1])``; when the keys' ranges multiply to
     less than 2**62 they are folded into one int64 key and sorted once, two to
@@ -72,6 +72,11 @@ def sort_order(*keys):
     Parameters
     ----------
     *keys : (n,) int arrays, each >= 0
+    stable : bool
+        Entries with equal keys keep their order.  A caller that cannot tell
+        such entries apart passes False: numpy's unstable sort of a folded key
+        was 1.7 to 4 times as fast on the keys of a 250k-triangle bake in no
+        order, and no faster on keys nearly in order.
 
     Returns
     -------
@@ -87,7 +92,7 @@ def sort_order(*keys):
     for key, span in zip(keys[1:], spans[1:]):
         folded *= span
         folded += key
-    return np.argsort(folded, kind="stable")
+    return np.argsort(folded, kind="stable" if stable else None)
 
 
 def group_starts(sorted_keys):

@@ -258,7 +258,7 @@ def exact_weld(positions, groups=None, return_first=False):
     if groups is not None:
         groups = np.asarray(groups, dtype=np.int64)
         key = _mix(key ^ groups.astype(np.uint64))
-    order = np.argsort(key, kind="stable")
+    order = np.argsort(key)                     # hashes are in no order: numpy's unstable sort is far faster
     ordered = positions[order]
     new = np.ones(count, dtype=bool)
     new[1:] = (key[order][1:] != key[order][:-1]) | (ordered[1:] != ordered[:-1]).any(axis=1)
@@ -266,8 +266,9 @@ def exact_weld(positions, groups=None, return_first=False):
         new[1:] |= groups[order][1:] != groups[order][:-1]
     welded = np.empty(count, dtype=np.int64)
     welded[order] = np.cumsum(new) - 1
-    # a stable sort keeps each index's vertices in ascending order: its first is its lowest
-    return (welded, order[new]) if return_first else welded
+    if not return_first:
+        return welded
+    return welded, np.minimum.reduceat(order, np.flatnonzero(new))
 
 
 def _mix(value):

@@ -127,7 +127,7 @@ def rim_triangles(corner_key):
     start = corner_key.ravel()
     end = np.roll(corner_key, -1, axis=1).ravel()
     low, high = np.minimum(start, end), np.maximum(start, end)
-    order = sort_order(low, high)
+    order = sort_order(low, high, stable=False)        # a run of one side is judged whatever its order
     low, high, forward = low[order], high[order], (start < end)[order]
     same_next = (low[1:] == low[:-1]) & (high[1:] == high[:-1])
     pair = np.zeros(len(order), dtype=bool)

@@ -43,6 +43,11 @@ def test_exact_weld_joins_exactly_the_vertices_at_the_same_position():
     _, expected = np.unique(positions + 0.0, axis=0, return_inverse=True)
     pairs = np.unique(np.stack([welded, expected.reshape(-1)], axis=1), axis=0)
     assert len(pairs) == welded.max() + 1 == expected.max() + 1
+    again, first = exact_weld(positions, return_first=True)
+    assert np.array_equal(again, welded)
+    lowest = np.full(welded.max() + 1, len(positions))
+    np.minimum.at(lowest, welded, np.arange(len(positions)))
+    assert np.array_equal(first, lowest)                          # each index's lowest vertex
 
 
 def test_a_box_of_six_separate_grids_is_sealed_an_inside_out_box_and_a_sheet_are_not():

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from seamless_ao.core.graph import connected_components
+from seamless_ao.core.graph import connected_components, sort_order
 
 
 @pytest.mark.parametrize("nodes, edge_count", [(1, 0), (9, 0), (30, 12), (200, 150), (500, 2000), (300, -1)])
@@ -42,3 +42,14 @@ def test_connected_components_match_a_search_from_each_smallest_node(nodes, edge
         labels = connected_components(nodes, given)
         assert labels.dtype == np.int64
         assert np.array_equal(labels, expected)
+
+
+def test_an_unstable_sort_order_sorts_the_same_keys():
+    """``stable=False`` may permute entries with equal keys, nothing else: the keys come out in the same
+    order as the stable sort's, and every entry once."""
+    rng = np.random.default_rng(3)
+    keys = [rng.integers(0, 50, 20000), rng.integers(0, 7, 20000)]
+    stable, unstable = sort_order(*keys), sort_order(*keys, stable=False)
+    assert np.array_equal(np.sort(unstable), np.arange(20000))
+    for key in keys:
+        assert np.array_equal(key[stable], key[unstable])
