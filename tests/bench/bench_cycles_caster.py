@@ -11,20 +11,18 @@ through the operator at default settings but the caster, image size and rays,
 timed as the user waits (warm: one untimed bake with each caster first; the
 median of ``--runs``).  Error: RMSE of what the material shows at report.py's
 2000 random visible surface points against its plain reference (4096 rays,
-tests/support/plain_reference.py, no code shared with either caster; cached in
-``--work-dir`` as report.py caches it).
+tests/support/plain_reference.py, no code shared with either caster; cached
+under ``--work-dir`` as report.py caches it).
 """
 
 import argparse
-import pathlib
 
 from common import finish, markdown_table, say
 
 import bpy
 
 from accuracy import errors, shown_seamless
-from report import fresh, reference, seamless_bake
-from seamless_ao.operators.adapters.mesh_data import read_triangles
+from report import fresh_with_reference, seamless_bake
 
 #: "<image size>x<rays per texel>": the node casts the first core/settings.py BULK_PILOT_RAYS rays of each
 #: texel, Cycles the rest.  1024x64 is the bake's default.
@@ -40,13 +38,9 @@ def main():
     parser.add_argument("--settings", nargs="+", default=SETTINGS, help="image size x rays, e.g. 1024x64")
     args = parser.parse_args()
     settings = [tuple(int(n) for n in setting.split("x")) for setting in args.settings]
-    cache = pathlib.Path(args.work_dir)
-    cache.mkdir(parents=True, exist_ok=True)
     rows = []
     for name in args.meshes:
-        ob = fresh(name)
-        mesh, loops = read_triangles(ob.data)
-        triangle, bary, normals, ref, _ = reference(ob, mesh, cache)
+        ob, loops, (triangle, bary, normals), ref = fresh_with_reference(name, args.work_dir)
         for caster, _ in CASTERS:                                   # warm-up: Cycles' kernels, the node group
             seamless_bake(ob, image_size=256, rays=32, ray_caster=caster)
         for image_size, rays in settings:

@@ -14,24 +14,22 @@ weight and once with the old fixed one (radius 2, one texel: the denoiser's
 arguments, patched in for this run only).  Error: RMSE and 99th percentile of
 what the material shows at report.py's 2000 random visible surface points
 against its plain reference (4096 rays, tests/support/plain_reference.py, no
-code shared with the baker; cached in ``--work-dir`` as report.py caches it).
+code shared with the baker; cached under ``--work-dir`` as report.py caches it).
 The bake is seeded, so both runs of a setting cast the same rays: only the
 filter differs.  Denoise seconds are the bake report's stage, one bake each.
 """
 
 import argparse
 import functools
-import pathlib
 
 from common import finish, markdown_table, say
 
 import bpy
 
 from accuracy import errors, shown_seamless
-from report import fresh, reference, seamless_bake
+from report import fresh_with_reference, seamless_bake
 from seamless_ao.core import denoise as denoise_module
 from seamless_ao.core import pipeline
-from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 #: "<image size>x<rays per texel>"; from 8 rays on both filters are the same.
 SETTINGS = ["256x1", "256x2", "256x4", "256x8", "512x1", "512x2", "512x4", "512x8", "1024x2"]
@@ -59,18 +57,14 @@ def main():
     parser.add_argument("--settings", nargs="+", default=SETTINGS, help="image size x rays, e.g. 256x2")
     args = parser.parse_args()
     settings = [tuple(int(n) for n in setting.split("x")) for setting in args.settings]
-    cache = pathlib.Path(args.work_dir) / "cache"
-    cache.mkdir(parents=True, exist_ok=True)
     rows = []
     for name in args.meshes:
-        ob = fresh(name)
-        mesh, loops = read_triangles(ob.data)
-        triangle, bary, normals, ref, _ = reference(ob, mesh, cache)
+        ob, loops, samples, ref = fresh_with_reference(name, args.work_dir)
         seamless_bake(ob, image_size=256, rays=4, ray_caster="GEOMETRY_NODES")       # warm-up: the node group
         for image_size, rays in settings:
             sigma = denoise_module.space_sigma_for(rays)
-            fixed = bake_with(ob, loops, (triangle, bary, normals), ref, image_size, rays, fixed=True)
-            widened = bake_with(ob, loops, (triangle, bary, normals), ref, image_size, rays, fixed=False)
+            fixed = bake_with(ob, loops, samples, ref, image_size, rays, fixed=True)
+            widened = bake_with(ob, loops, samples, ref, image_size, rays, fixed=False)
             row = [name, "{}², {}".format(image_size, rays),
                    "{:.2f} / {}".format(sigma, denoise_module.window_radius(sigma)),
                    "{:.4f} / {:.4f}".format(fixed[0], widened[0]), "{:+.0%}".format(widened[0] / fixed[0] - 1),

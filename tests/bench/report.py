@@ -153,6 +153,18 @@ def reference(ob, mesh, cache):
     return triangle, bary, normals, values, time.perf_counter() - start
 
 
+def fresh_with_reference(name, work_dir):
+    """For the benchmarks that measure against this report's reference: a fresh scene holding mesh ``name``,
+    and ``(object, its loops, (triangle, bary, normals) of the points, reference AO there)``, the reference
+    cached in ``work_dir``/cache as :func:`main` caches it."""
+    cache = pathlib.Path(work_dir) / "cache"
+    cache.mkdir(parents=True, exist_ok=True)
+    ob = fresh(name)
+    mesh, loops = read_triangles(ob.data)
+    triangle, bary, normals, ref, _ = reference(ob, mesh, cache)
+    return ob, loops, (triangle, bary, normals), ref
+
+
 def run_mesh(name, cache, out, rows, curves, timed_runs=3):
     from blender_checks import uv_layer_array
     ob = fresh(name)
