@@ -44,26 +44,28 @@ SIZE_MODE_ITEMS = (
 #: closed piece every ray meets its back faces, so a few tell the buried texels (core/ao.py's ``buried``).
 BULK_PILOT_RAYS = 4
 
+#: What the Cycles caster cannot do: (setting, the value it needs, the sentence that says so, the value in
+#: a few words for the Ray Caster items' descriptions).
+CYCLES_NEEDS = (
+    ("falloff", "NONE", "Cycles' AO has no falloff", "no falloff"),
+    ("cone_angle", 90.0, "Cycles casts over the whole hemisphere (Cone Angle 90°)", "full hemisphere"),
+    ("distribution", "COSINE", "Cycles spreads its rays by the cosine", "cosine rays"),
+    ("ignore_backfaces", False, "Cycles' AO counts back faces", "back faces occlude"),
+    ("horizon_bias", 0.0, "Cycles has no horizon bias", "no horizon bias"),
+    ("use_ground_plane", False, "Cycles' AO sees no ground plane", "no ground plane"),
+)
+#: The settings Cycles can follow, in a few words.
+CLASSIC_AO = ", ".join(need[3] for need in CYCLES_NEEDS)
+
 #: A .blend stores an enum setting as its item's position: new items go at the end, never in between.
 CASTER_ITEMS = (
     ("GEOMETRY_NODES", "Geometry Nodes", "Blender's Raycast node on all cores (every setting)"),
     ("PYTHON_BVH", "Python BVH", "A Python loop over mathutils' BVHTree.ray_cast on one core (reference)"),
     ("CYCLES", "Cycles", "Geometry Nodes for each texel's first {} rays and to find the creases, then Cycles' AO "
      "bake on all cores for the rest, with no adaptive stop (faster in closed rooms and on large scans; classic AO "
-     "only: no falloff, full hemisphere, cosine rays, back faces occlude, no ground plane)".format(BULK_PILOT_RAYS)),
-    ("AUTOMATIC", "Automatic", "Cycles when the settings are classic AO and there are more than {} rays per texel "
-     "(no falloff, full hemisphere, cosine rays, back faces occlude, no ground plane, no horizon bias), Geometry "
-     "Nodes otherwise".format(BULK_PILOT_RAYS)),
-)
-
-#: What the Cycles caster cannot do: (setting, the value it needs, the sentence that says so).
-CYCLES_NEEDS = (
-    ("falloff", "NONE", "Cycles' AO has no falloff"),
-    ("cone_angle", 90.0, "Cycles casts over the whole hemisphere (Cone Angle 90°)"),
-    ("distribution", "COSINE", "Cycles spreads its rays by the cosine"),
-    ("ignore_backfaces", False, "Cycles' AO counts back faces"),
-    ("horizon_bias", 0.0, "Cycles has no horizon bias"),
-    ("use_ground_plane", False, "Cycles' AO sees no ground plane"),
+     "only: {})".format(BULK_PILOT_RAYS, CLASSIC_AO)),
+    ("AUTOMATIC", "Automatic", "Cycles when the settings are classic AO ({}) and there are more than {} rays per "
+     "texel, Geometry Nodes otherwise".format(CLASSIC_AO, BULK_PILOT_RAYS)),
 )
 
 SAVE_ITEMS = (
@@ -191,14 +193,15 @@ class BakeSettings(_Settings):
                 "from the object's size".format(self.max_distance))
         unfollowed = self.cycles_cannot_follow()
         if self.ray_caster == "CYCLES" and unfollowed:
-            name, needed, reason = unfollowed
+            name, needed, reason, _ = unfollowed
             raise SeamlessAOError(
                 "The Cycles ray caster cannot bake with {} = {!r}: {}. Set it to {!r}, or choose the "
                 "Geometry Nodes caster.".format(name, getattr(self, name), reason, needed))
         return self
 
     def cycles_cannot_follow(self):
-        """The first ``(setting, value it needs, reason)`` of :data:`CYCLES_NEEDS` these settings break, or None."""
+        """The first ``(setting, value it needs, reason, in short)`` of :data:`CYCLES_NEEDS` these settings break,
+        or None."""
         return next((need for need in CYCLES_NEEDS if getattr(self, need[0]) != need[1]), None)
 
     def caster(self):

@@ -7,7 +7,7 @@ from ..operators.adapters.scene_settings import automatic_caster_line
 from ..operators.ui.poll import stale_bakes
 
 #: Settings the Cycles ray caster cannot follow or does not use: drawn inactive while it is chosen.
-NOT_FOR_CYCLES = frozenset([name for name, _, _ in CYCLES_NEEDS] + ["adaptive"])
+NOT_FOR_CYCLES = frozenset([need[0] for need in CYCLES_NEEDS] + ["adaptive"])
 
 
 class SidebarPanel:

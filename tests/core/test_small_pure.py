@@ -18,7 +18,7 @@ from seamless_ao.core.geometry2d import segment_distance, triangle_angles
 from seamless_ao.core.packing import SMALL_TEXELS, density_filling
 from seamless_ao.core.png import encode_png
 from seamless_ao.core.rays import AOParams, ao_params
-from seamless_ao.core.settings import BULK_PILOT_RAYS, BakeSettings, ExportSettings
+from seamless_ao.core.settings import BakeSettings, ExportSettings
 
 
 def decode_png(data):
@@ -408,26 +408,6 @@ def test_weld_vertices_joins_exactly_the_vertices_that_share_a_cell_of_a_shifted
     assert count - len(numbering) > 150                                # plenty did weld
     within_half = same_group & (np.abs(positions[a] - positions[b]) <= 0.5 * tolerance[a, None]).all(axis=1)
     assert (welded[a[within_half]] == welded[b[within_half]]).all()
-
-
-@pytest.mark.parametrize("name, value", [("falloff", "LINEAR"), ("cone_angle", 60.0), ("distribution", "UNIFORM"),
-                                         ("ignore_backfaces", True), ("horizon_bias", 5.0),
-                                         ("use_ground_plane", True)])
-def test_the_cycles_caster_refuses_by_name_what_cycles_ao_cannot_do(name, value):
-    assert BakeSettings.from_kwargs(ray_caster="CYCLES").ray_caster == "CYCLES"
-    BakeSettings.from_kwargs(**{name: value})                          # fine with the Geometry Nodes caster
-    with pytest.raises(SeamlessAOError, match="The Cycles ray caster cannot bake with {} = ".format(name)):
-        BakeSettings.from_kwargs(ray_caster="CYCLES", **{name: value})
-    # Automatic never refuses: it takes the Geometry Nodes caster instead
-    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", **{name: value}).caster() == "GEOMETRY_NODES"
-
-
-def test_the_automatic_caster_is_cycles_for_classic_ao_with_rays_beyond_the_pilot():
-    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC").caster() == "CYCLES"
-    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS + 1).caster() == "CYCLES"
-    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS).caster() == "GEOMETRY_NODES"
-    for chosen in ("GEOMETRY_NODES", "PYTHON_BVH", "CYCLES"):
-        assert BakeSettings.from_kwargs(ray_caster=chosen, rays=1).caster() == chosen
 
 
 @pytest.mark.parametrize("vertices", [6, 40, 1 << 40])

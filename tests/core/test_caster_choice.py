@@ -1,0 +1,35 @@
+"""Which ray caster a bake's settings take, and what the Ray Caster items say about it (core/settings.py)."""
+
+import pytest
+
+from seamless_ao.core.errors import SeamlessAOError
+from seamless_ao.core.settings import BULK_PILOT_RAYS, CASTER_ITEMS, CYCLES_NEEDS, BakeSettings
+
+
+@pytest.mark.parametrize("name, value", [("falloff", "LINEAR"), ("cone_angle", 60.0), ("distribution", "UNIFORM"),
+                                         ("ignore_backfaces", True), ("horizon_bias", 5.0),
+                                         ("use_ground_plane", True)])
+def test_the_cycles_caster_refuses_by_name_what_cycles_ao_cannot_do(name, value):
+    assert BakeSettings.from_kwargs(ray_caster="CYCLES").ray_caster == "CYCLES"
+    BakeSettings.from_kwargs(**{name: value})                          # fine with the Geometry Nodes caster
+    with pytest.raises(SeamlessAOError, match="The Cycles ray caster cannot bake with {} = ".format(name)):
+        BakeSettings.from_kwargs(ray_caster="CYCLES", **{name: value})
+    # Automatic never refuses: it takes the Geometry Nodes caster instead
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", **{name: value}).caster() == "GEOMETRY_NODES"
+
+
+def test_the_automatic_caster_is_cycles_for_classic_ao_with_rays_beyond_the_pilot():
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC").caster() == "CYCLES"
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS + 1).caster() == "CYCLES"
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS).caster() == "GEOMETRY_NODES"
+    for chosen in ("GEOMETRY_NODES", "PYTHON_BVH", "CYCLES"):
+        assert BakeSettings.from_kwargs(ray_caster=chosen, rays=1).caster() == chosen
+
+
+def test_the_cycles_and_automatic_items_name_every_setting_cycles_needs():
+    """Their descriptions read off CYCLES_NEEDS: a setting added there shows in both (the Cycles item once
+    left out horizon bias)."""
+    descriptions = {identifier: description for identifier, _, description in CASTER_ITEMS}
+    assert len(CYCLES_NEEDS) == 6
+    for _, _, _, in_short in CYCLES_NEEDS:
+        assert in_short in descriptions["CYCLES"] and in_short in descriptions["AUTOMATIC"], in_short
