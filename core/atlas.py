@@ -84,12 +84,21 @@ class Atlas:
         return np.array([self.width, self.height], dtype=np.float64)
 
     def layer_uv(self):
-        """(t, 3, 3, 2) float64: UV of each triangle corner in layers ``AO_X``, ``AO_Y``, ``AO_Z``.
+        """(t, 3, 3, 2) float64: UV of each triangle corner in layers ``AO_X``, ``AO_Y``, ``AO_Z``
+        (:meth:`axis_uv` of each axis, stacked)."""
+        return np.stack([self.axis_uv(axis) for axis in range(3)], axis=1)
+
+    def axis_uv(self, axis, triangles=slice(None)):
+        """(k, 3, 2) float64: UV of each corner of ``triangles`` (a slice or (k,) int) in layer ``AO_X``,
+        ``AO_Y`` or ``AO_Z`` (``axis`` 0, 1, 2), within half a texel of the image's border.
 
         A triangle with no chart on an axis repeats its dominant chart there
-        (thesis §7.1.1), so all three lookups read the same surface.
+        (thesis §7.1.1), so all three lookups read the same surface.  One
+        layer at a time: a bake writes the layers one by one, and the three
+        together are 72 bytes per triangle (72 MB at a million triangles).
         """
-        member = np.where(self.membership >= 0, self.membership, self.dominant_member[:, None])
+        member = self.membership[triangles, axis]
+        member = np.where(member >= 0, member, self.dominant_member[triangles])
         uv = self.member_uv[member]
         # column by column: what ``uv /= size`` and ``np.clip`` compute, in a fifth of the time
         for column, size in enumerate((float(self.width), float(self.height))):

@@ -111,5 +111,5 @@ def layer_lookup(atlas, mesh, triangle, bary):
     -------
     (k, 3, 2) float64: UV per layer (X, Y, Z).
     """
-    uv = atlas.layer_uv()[triangle]                     # (k, 3 layers, 3 corners, 2)
+    uv = np.stack([atlas.axis_uv(axis, triangle) for axis in range(3)], axis=1)   # (k, 3 layers, 3 corners, 2)
     return np.einsum("kc,klcd->kld", bary, uv)

@@ -52,6 +52,11 @@ class BakeResult:
         """(t, 3 layers, 3 corners, 2) float64: every triangle's UVs in AO_X, AO_Y and AO_Z."""
         return self.layout.atlas.layer_uv()
 
+    def part_axis_uv(self, part):
+        """The UVs of input mesh ``part``'s triangles in AO_X, AO_Y and AO_Z: three (k, 3 corners, 2) float64."""
+        triangles = self.part_triangles(part)
+        return [self.layout.atlas.axis_uv(axis, triangles) for axis in range(3)]
+
     def part_triangles(self, part):
         """Slice of the combined mesh's triangles that came from input mesh ``part``."""
         counts = np.bincount(self.layout.part_of_triangle, minlength=part + 1)

@@ -195,9 +195,8 @@ class BakeSession:
         try:
             image = transaction.image(self.default_image_name(), image_values)
             self.image_name = image.name
-            layer_uv = result.layer_uv
             for part, baked in enumerate(self.baked):
-                part_uv = layer_uv[result.part_triangles(part)]
+                part_uv = result.part_axis_uv(part)
                 if baked.through_stack:
                     transaction.stack_uv_maps(baked.ob, baked.topology, baked.loops, part_uv)
                 else:

@@ -104,20 +104,20 @@ class Transaction:
         self.undo.append(undo)
         return image
 
-    def uv_maps(self, mesh, loops, layer_uv):
+    def uv_maps(self, mesh, loops, axis_uv):
         """Create or replace AO_X/Y/Z; the user's active and render-active UV maps stay as they were.
 
         Parameters
         ----------
         loops : (t, 3) int, loop of each triangle corner
-        layer_uv : (t, 3 layers, 3 corners, 2)
+        axis_uv : three (t, 3 corners, 2), the triangles' UVs in AO_X, AO_Y and AO_Z
         """
         layers = mesh.uv_layers
         active = layers.active.name if layers.active is not None else None
         render = next((uv.name for uv in layers if uv.active_render), None)
         for axis, name in enumerate(AO_LAYERS):
             uv = np.zeros((len(mesh.loops), 2), dtype=np.float32)
-            uv[loops.ravel()] = layer_uv[:, axis].reshape(-1, 2)
+            uv[loops.ravel()] = axis_uv[axis].reshape(-1, 2)
             layer = layers.get(name)
             if layer is None:
                 layer = layers.new(name=name, do_init=False)
@@ -128,7 +128,7 @@ class Transaction:
         self.undo.append(lambda mesh=mesh, active=active, render=render: _restore_active(mesh, active, render))
         _restore_active(mesh, active, render)
 
-    def stack_uv_maps(self, ob, topology, loops, layer_uv):
+    def stack_uv_maps(self, ob, topology, loops, axis_uv):
         """UV maps AO_X/Y/Z for an object whose stack changes its topology (or whose mesh is shared): a
         helper holding the baked corners and the maps, and the ``Seamless AO`` modifier, last in the stack,
         that stores them onto the evaluated mesh (:mod:`.stack`).  A helper from an earlier bake is kept
@@ -138,11 +138,11 @@ class Transaction:
         ----------
         topology : mesh_data.Topology, the evaluated corners the bake saw
         loops : (t, 3) int, the corner of each triangle corner
-        layer_uv : (t, 3 layers, 3 corners, 2)
+        axis_uv : three (t, 3 corners, 2), the triangles' UVs in AO_X, AO_Y and AO_Z
         """
         per_corner = np.zeros((3, len(topology.corner_vert), 2), dtype=np.float32)
         for axis in range(3):
-            per_corner[axis][loops.ravel()] = layer_uv[:, axis].reshape(-1, 2)
+            per_corner[axis][loops.ravel()] = axis_uv[axis].reshape(-1, 2)
         mesh = stack.helper_mesh(stack.helper_name(ob), topology, per_corner)
         helper = bpy.data.objects.new(stack.helper_name(ob), mesh)
         self.undo.append(lambda helper=helper: stack.remove_helper(helper))

@@ -71,6 +71,11 @@ def test_parts_keep_their_triangles_and_see_what_the_occluders_give():
     assert sorted(asked) == [0, 1]                                     # asked once per part, and only when on
     assert together.part_triangles(0) == slice(0, len(ring.triangles))
     assert together.part_triangles(1) == slice(len(ring.triangles), len(ring.triangles) + len(floor.triangles))
+    # what the Blender side writes into each part's AO_X/Y/Z: its slice of every triangle's UVs, layer by layer
+    every = together.layer_uv
+    for part in (0, 1):
+        for axis, uv in enumerate(together.part_axis_uv(part)):
+            np.testing.assert_array_equal(uv, every[together.part_triangles(part), axis])
     floor_texels = together.layout.part_of_texel() == 1
     under = floor_texels & together.computed
     assert together.texel_ao[under].mean() < alone.texel_ao[under].mean() - 0.02
