@@ -15,14 +15,12 @@ tests/support/plain_reference.py, no code shared with either caster; cached
 under ``--work-dir`` as report.py caches it).
 """
 
-import argparse
-
 from common import finish, markdown_table, say
 
 import bpy
 
 from accuracy import errors, shown_seamless
-from report import fresh_with_reference, seamless_bake
+from report import bench_arguments, fresh_with_reference, seamless_bake
 
 #: "<image size>x<rays per texel>": the node casts the first core/settings.py BULK_PILOT_RAYS rays of each
 #: texel, Cycles the rest.  1024x64 is the bake's default.
@@ -31,13 +29,7 @@ CASTERS = [("GEOMETRY_NODES", "Geometry Nodes"), ("CYCLES", "Cycles")]
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", type=int, default=3)
-    parser.add_argument("--meshes", nargs="+", default=["suzanne", "scan", "interior"])
-    parser.add_argument("--work-dir", default="out/bench", help="the reference cache (shared with report.py)")
-    parser.add_argument("--settings", nargs="+", default=SETTINGS, help="image size x rays, e.g. 1024x64")
-    args = parser.parse_args()
-    settings = [tuple(int(n) for n in setting.split("x")) for setting in args.settings]
+    args, settings = bench_arguments(__doc__.splitlines()[0], ["suzanne", "scan", "interior"], SETTINGS, runs=3)
     rows = []
     for name in args.meshes:
         ob, loops, (triangle, bary, normals), ref = fresh_with_reference(name, args.work_dir)

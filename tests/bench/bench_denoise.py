@@ -19,7 +19,6 @@ The bake is seeded, so both runs of a setting cast the same rays: only the
 filter differs.  Denoise seconds are the bake report's stage, one bake each.
 """
 
-import argparse
 import functools
 
 from common import finish, markdown_table, say
@@ -27,7 +26,7 @@ from common import finish, markdown_table, say
 import bpy
 
 from accuracy import errors, shown_seamless
-from report import fresh_with_reference, seamless_bake
+from report import bench_arguments, fresh_with_reference, seamless_bake
 from seamless_ao.core import denoise as denoise_module
 from seamless_ao.core import pipeline
 
@@ -51,12 +50,7 @@ def bake_with(ob, loops, samples, reference_values, image_size, rays, fixed):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--meshes", nargs="+", default=["suzanne", "dense", "scan", "interior"])
-    parser.add_argument("--work-dir", default="out/bench", help="the reference cache (shared with report.py)")
-    parser.add_argument("--settings", nargs="+", default=SETTINGS, help="image size x rays, e.g. 256x2")
-    args = parser.parse_args()
-    settings = [tuple(int(n) for n in setting.split("x")) for setting in args.settings]
+    args, settings = bench_arguments(__doc__.splitlines()[0], ["suzanne", "dense", "scan", "interior"], SETTINGS)
     rows = []
     for name in args.meshes:
         ob, loops, samples, ref = fresh_with_reference(name, args.work_dir)

@@ -165,6 +165,22 @@ def fresh_with_reference(name, work_dir):
     return ob, loops, (triangle, bary, normals), ref
 
 
+def bench_arguments(description, meshes, settings, runs=None):
+    """Command-line options of the benchmarks that bake report meshes at "<image size>x<rays>" settings against
+    this report's reference: ``(args, [(image size, rays), ...])``; ``--runs`` only if ``runs`` is given."""
+    parser = argparse.ArgumentParser(description=description)
+    if runs is not None:
+        parser.add_argument("--runs", type=int, default=runs, help="timed runs of each setting (the median counts)")
+    parser.add_argument("--meshes", nargs="+", default=meshes, choices=list(MESHES))
+    parser.add_argument("--work-dir", default="out/bench", help="the reference cache (shared with report.py)")
+    parser.add_argument("--settings", nargs="+", default=settings, help="image size x rays, e.g. 256x2")
+    args = parser.parse_args()
+    pairs = [setting.split("x") for setting in args.settings]
+    if not all(len(pair) == 2 and all(n.isdigit() for n in pair) for pair in pairs):
+        parser.error("a setting is <image size>x<rays>, e.g. 256x2 (got {})".format(" ".join(args.settings)))
+    return args, [(int(size), int(rays)) for size, rays in pairs]
+
+
 def run_mesh(name, cache, out, rows, curves, timed_runs=3):
     from blender_checks import uv_layer_array
     ob = fresh(name)
