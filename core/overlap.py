@@ -101,13 +101,21 @@ def overlapping_triangles(uv, depth, group, welded_triangles, triangle_face, dep
     return pairs[gap > depth_tolerance]
 
 
-def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
+def overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
     """Fans of chart triangles around one vertex whose angles add up to more than a full turn.
 
-    Yields, per such fan, its welded vertex and two of its triangles (2,)
-    int64 that overlap: the first and the one where the running angle passes
-    360 degrees.  Only vertices in ``fan_vertices`` (bool mask over welded
-    vertices) are looked at when it is given.
+    Parameters
+    ----------
+    uv : (t, 3, 2) float64, group : (t,) int64, welded_triangles : (t, 3) int64
+    live : (k,) int64, the chart triangles to look at
+    fan_vertices : (w,) bool, optional
+        Only fans around these welded vertices are looked at.
+
+    Returns
+    -------
+    vertex : (f,) int64, the welded vertex of each overwound fan
+    members : (f, 2) int64, two of its triangles that overlap: the first and
+        the one where the running angle passes 360 degrees
     """
     vertex = welded_triangles[live]                                          # (k, 3)
     keep = np.ones(vertex.shape, dtype=bool) if fan_vertices is None else fan_vertices[vertex]
@@ -115,17 +123,29 @@ def _overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
     angle = triangle_angles(uv[live[touched]])[keep[touched]]
     triangle, vertex = np.repeat(live, 3)[keep.ravel()], vertex[keep]
     if not len(vertex):
-        return
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 2), dtype=np.int64)
     order = sort_order(group[triangle], vertex)
     v_sorted, g_sorted = vertex[order], group[triangle][order]
     change = np.ones(len(order), dtype=bool)
     change[1:] = (v_sorted[1:] != v_sorted[:-1]) | (g_sorted[1:] != g_sorted[:-1])
     fan_starts = np.concatenate((np.flatnonzero(change), [len(order)]))
     total = np.add.reduceat(angle[order], fan_starts[:-1])
-    for fan in np.flatnonzero(total > 2.0 * np.pi * (1.0 + 1e-6)):
-        fan_order = order[fan_starts[fan]:fan_starts[fan + 1]]
-        other = int(np.searchsorted(np.cumsum(angle[fan_order]), 2.0 * np.pi))
-        yield v_sorted[fan_starts[fan]], triangle[fan_order[[0, min(other, len(fan_order) - 1)]]]
+    fans = np.flatnonzero(total > 2.0 * np.pi * (1.0 + 1e-6))
+    first, length = fan_starts[fans], fan_starts[fans + 1] - fan_starts[fans]
+    passed = np.zeros(len(fans), dtype=np.int64)
+    # Each fan's running angle, as rows padded with zeros: a row's cumsum adds the fan's own angles in their
+    # order, as a cumsum of the fan alone would.  Fans of similar length share a block, so padding at most
+    # doubles the entries however long the longest fan is.
+    size_class = np.floor(np.log2(np.maximum(length, 1))).astype(np.int64)
+    for size in np.unique(size_class):
+        rows = np.flatnonzero(size_class == size)
+        column = np.arange(int(length[rows].max()))
+        inside = column < length[rows, None]
+        position = np.where(inside, first[rows, None] + column, 0)
+        running = np.cumsum(np.where(inside, angle[order[position]], 0.0), axis=1)
+        passed[rows] = np.minimum(np.count_nonzero(inside & (running < 2.0 * np.pi), axis=1), length[rows] - 1)
+    members = np.stack([triangle[order[first]], triangle[order[first + passed]]], axis=1)
+    return v_sorted[first], members.astype(np.int64)
 
 
 def overwound_vertices(uv, group, welded_triangles):
@@ -135,8 +155,7 @@ def overwound_vertices(uv, group, welded_triangles):
     vertices where later rounds of :func:`fold_conflicts` need to look.
     """
     mask = np.zeros(int(welded_triangles.max()) + 1 if welded_triangles.size else 0, dtype=bool)
-    for vertex, _ in _overwound_fans(uv, group, welded_triangles, np.flatnonzero(group >= 0)):
-        mask[vertex] = True
+    mask[overwound_fans(uv, group, welded_triangles, np.flatnonzero(group >= 0))[0]] = True
     return mask
 
 
@@ -281,8 +300,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         memory.rounds += 1
 
     # 2. Vertices whose fan turns more than once.
-    for _, members in _overwound_fans(uv, group, welded_triangles, live, fan_vertices):
-        found.append(members[None, :])
+    found.append(overwound_fans(uv, group, welded_triangles, live, fan_vertices)[1])
 
     # 3. Sides shared by 3+ chart triangles: two of them on the same side overlap.  All such pairs of all
     #    these sides at once: a non-manifold chart (an interior's touching boxes) has thousands.

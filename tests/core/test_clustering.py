@@ -280,3 +280,34 @@ def test_project_reads_the_chart_plane_basis_and_one_axis_reads_the_same_bit_for
                        rtol=1e-15, atol=0)
     fast_uv, fast_depth = project(points, signed, axis)
     assert np.array_equal(fast_uv, uv) and np.array_equal(fast_depth, depth)
+
+
+def test_overwound_fans_finds_each_fan_past_a_full_turn_and_the_triangle_where_it_passes():
+    """Fans of 4 to 40 triangles around separate vertices, each turning a given number of times (once exactly:
+    not overwound; 1.2 to 2.3 times: overwound, no triangle ending exactly at 360 degrees).  For each
+    overwound fan the pair is its first triangle and the one whose running angle first reaches 360 degrees,
+    counted plainly triangle by triangle."""
+    from seamless_ao.core.overlap import overwound_fans
+    uv, welded, group, expected = [], [], [], {}
+    corner = 0
+    for chart, (count, turns) in enumerate([(4, 1.0), (9, 1.4), (5, 1.2), (40, 2.3), (17, 1.0), (12, 1.25)]):
+        step = 2.0 * np.pi * turns / count
+        start = len(uv)
+        for k in range(count):
+            a, b = k * step, (k + 1) * step
+            uv.append([[0.0, 0.0], [np.cos(a), np.sin(a)], [np.cos(b), np.sin(b)]])
+            welded.append([corner, corner + 1 + k, corner + 2 + k])
+            group.append(chart)
+        if turns > 1.0:
+            running, k = 0.0, 0
+            while running + step < 2.0 * np.pi:
+                running, k = running + step, k + 1
+            expected[corner] = (start, start + k)
+        corner += count + 2
+    uv, welded, group = np.array(uv), np.array(welded), np.array(group)
+    vertex, members = overwound_fans(uv, group, welded, np.arange(len(uv)))
+    assert dict(zip(vertex.tolist(), map(tuple, members.tolist()))) == expected
+    only = np.zeros(corner, dtype=bool)
+    only[max(expected)] = True
+    vertex, members = overwound_fans(uv, group, welded, np.arange(len(uv)), fan_vertices=only)
+    assert vertex.tolist() == [max(expected)] and tuple(members[0]) == expected[max(expected)]
