@@ -14,7 +14,7 @@ from .geometry2d import (barycentric_2d, corner_max, corner_min, line_crossing, 
 from .graph import index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
 
 
-def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
+def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b, closed=False):
     """Largest depth difference between two planar triangles over their 2D overlap.
 
     The overlap of two triangles is a convex polygon whose corners are corners
@@ -26,15 +26,21 @@ def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b):
     uv_a, uv_b : (k, 3, 2) float64
     depth_a, depth_b : (k, 3) float64
         Depth (distance along the chart's axis) at each corner.
+    closed : bool
+        Also count corners on the other triangle's edges and crossings at
+        edge ends: the overlap's closure, for pairs whose interiors are known
+        to overlap (two triangles on one side of a side they share).  A
+        triangle lying inside another with a corner on its edge (collinear
+        sides, as at a scan's pole) has no other corners.
 
     Returns
     -------
     (k,) float64: max |depth_a - depth_b| over the overlap, ``-1`` where the
-    interiors do not overlap.
+    interiors do not overlap (``closed``: where the triangles do not meet).
     """
     k = len(uv_a)
     gap = np.full(k, -1.0)
-    eps = 1e-9
+    eps = -1e-9 if closed else 1e-9
     for uv_p, depth_p, uv_q, depth_q in ((uv_a, depth_a, uv_b, depth_b), (uv_b, depth_b, uv_a, depth_a)):
         for corner in range(3):
             bary = barycentric_2d(uv_p[:, corner], uv_q)
@@ -192,7 +198,9 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
       ``touch`` (or ``margin``) of each other in 2D, where their depths differ
       by more than the tolerance plus what the slopes explain;
     * vertices whose fan of chart triangles turns more than 360 degrees;
-    * edges shared by three or more chart triangles, two on the same side.
+    * edges shared by three or more chart triangles, two on the same side,
+      and edges whose two chart triangles both run them the same way
+      (winding flipped across them), which puts both on one side.
 
     Boundaries are O(sqrt(n)) edges for well-shaped charts, so this costs
     O(n log n) with a small constant, unlike testing all nearby triangle pairs.
@@ -237,9 +245,9 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     v1 = welded_triangles[tri, (corner + 1) % 3]
     low, high = np.minimum(v0, v1), np.maximum(v0, v1)
     real = low != high
-    tri, corner, low, high = tri[real], corner[real], low[real], high[real]
+    tri, corner, low, high, forward = tri[real], corner[real], low[real], high[real], (v0 < v1)[real]
     order = sort_order(group[tri], low, high)
-    tri, corner, low, high = tri[order], corner[order], low[order], high[order]
+    tri, corner, low, high, forward = tri[order], corner[order], low[order], high[order], forward[order]
     change = np.ones(len(tri), dtype=bool)
     change[1:] = (low[1:] != low[:-1]) | (high[1:] != high[:-1]) | (group[tri[1:]] != group[tri[:-1]])
     starts = np.concatenate((np.flatnonzero(change), [len(tri)]))
@@ -303,8 +311,15 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     found.append(overwound_fans(uv, group, welded_triangles, live, fan_vertices)[1])
 
     # 3. Sides shared by 3+ chart triangles: two of them on the same side overlap.  All such pairs of all
-    #    these sides at once: a non-manifold chart (an interior's touching boxes) has thousands.
-    shared_starts, shared_uses = starts[:-1][uses > 2], uses[uses > 2]
+    #    these sides at once: a non-manifold chart (an interior's touching boxes) has thousands.  A side of
+    #    two chart triangles that both run it the same way (winding flipped across it, as in a scan's
+    #    patches or a cap put on backwards) has both on one side too: every chart triangle faces the axis,
+    #    so both turn counter-clockwise in the chart's plane.
+    same_way = np.zeros(len(uses), dtype=bool)
+    pair_start = starts[:-1][uses == 2]
+    same_way[uses == 2] = forward[pair_start] == forward[pair_start + 1]
+    shared = (uses > 2) | same_way
+    shared_starts, shared_uses = starts[:-1][shared], uses[shared]
     if len(shared_starts):
         pairs = pairs_within_groups(np.concatenate([[0], np.cumsum(shared_uses)]))
         lead = np.repeat(shared_starts, shared_uses)         # each side's first member gives the edge's direction
@@ -319,7 +334,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         same_side = (side[pairs[:, 0]] == side[pairs[:, 1]]) & (triangle_face[one] != triangle_face[two])
         one, two = one[same_side], two[same_side]
         tolerance = np.maximum(depth_tolerance[one], depth_tolerance[two])
-        folded = overlap_depth_gap(uv[one], depth[one], uv[two], depth[two]) > tolerance
+        folded = overlap_depth_gap(uv[one], depth[one], uv[two], depth[two], closed=True) > tolerance
         found.append(np.stack([one[folded], two[folded]], axis=1))
 
     return unique_pairs(np.concatenate(found))

@@ -193,7 +193,7 @@ def test_meshes_baked_together_never_weld_and_keep_their_own_tolerances():
 
 @pytest.mark.parametrize("make, margin", [
     (lambda: meshes.spiral_ramp(turns=3.0), 0.05),
-    (lambda: __import__("real_assets").noisy_scan(triangles=20_000), 0.0372),     # many rounds
+    (lambda: __import__("real_assets").noisy_scan(triangles=20_000), 0.02),       # many rounds
 ], ids=["ramp", "noisy-scan"])
 def test_rounds_after_a_split_pair_up_only_the_cuts(make, margin, monkeypatch):
     """make_injective remembers the boundary conflicts of a round (FoldMemory) and pairs up only the
@@ -311,3 +311,40 @@ def test_overwound_fans_finds_each_fan_past_a_full_turn_and_the_triangle_where_i
     only[max(expected)] = True
     vertex, members = overwound_fans(uv, group, welded, np.arange(len(uv)), fan_vertices=only)
     assert vertex.tolist() == [max(expected)] and tuple(members[0]) == expected[max(expected)]
+
+
+def test_a_flap_wound_the_same_way_as_its_neighbour_is_split_off():
+    """Two triangles sharing a side that both run it the same way (winding flipped across it), both facing +Z:
+    the second folds back over the first in the Z projection (its third corner lies over the first, 0.2
+    above it).  No boundary side, fan or side of three triangles shows it; the shared side does."""
+    positions = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.4, 0.5, 0.2]])
+    mesh = TriangleMesh.from_triangles(positions, [[0, 1, 2], [0, 1, 3]])
+    topology = face_adjacency(mesh)
+    assert overlaps_per_axis(mesh, topology, signed_axis_clusters(mesh, topology))[2] > 0, \
+        "the test mesh must fold in the Z projection"
+    _, charts = check_charts(mesh)
+    assert charts.chart_of_face[0, 2] != charts.chart_of_face[1, 2]
+
+
+@pytest.mark.parametrize("triangles", [20_000, 40_000])
+def test_a_scan_whose_caps_are_wound_against_the_body_is_fold_free(triangles):
+    """real_assets.noisy_scan's pole caps run their sides the same way as the body's first and last rings
+    (as a scan's flipped patches do), and at the poles some cap triangles lie inside a ring triangle with a
+    corner on its side (collinear sides).  Both used to leave folds the judge finds: four pairs at 20k
+    triangles (the winding), one at 40k (the collinear sides, once the winding was seen)."""
+    from real_assets import noisy_scan
+    check_charts(TriangleMesh.from_triangles(*noisy_scan(triangles=triangles), smooth=True))
+
+
+def test_the_depth_gap_of_a_triangle_inside_another_with_a_corner_on_its_side():
+    """overlap_depth_gap over the closed overlap: a triangle sharing a side with a larger one and lying inside
+    it with its third corner on the larger one's other side has no corner strictly inside and no proper edge
+    crossing, so only ``closed`` sees the overlap and its depth gap (0.3 at that corner)."""
+    from seamless_ao.core.overlap import overlap_depth_gap
+    big = np.array([[[0.0, 0.0], [0.0, 2.0], [1.0, 1.0]]])
+    small = np.array([[[0.0, 1.0], [0.0, 2.0], [1.0, 1.0]]])
+    big_depth, small_depth = np.zeros((1, 3)), np.array([[0.3, 0.0, 0.0]])
+    assert overlap_depth_gap(small, small_depth, big, big_depth)[0] == -1.0
+    assert overlap_depth_gap(small, small_depth, big, big_depth, closed=True)[0] == pytest.approx(0.3)
+    apart = np.array([[[2.0, 0.0], [3.0, 0.0], [2.0, 1.0]]])
+    assert overlap_depth_gap(apart, big_depth, big, big_depth, closed=True)[0] == -1.0

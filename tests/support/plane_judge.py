@@ -47,6 +47,8 @@ def boxes_within(shapes, group, margin):
     their boxes' low x, each paired with the following ones whose low x is within its high x plus the margin."""
     low, high = shapes.min(axis=1), shapes.max(axis=1)
     live = np.flatnonzero(group >= 0)
+    if not len(live):
+        return np.zeros((0, 2), dtype=np.int64)
     order = live[np.argsort(low[live, 0], kind="stable")]
     sorted_low = low[order, 0]
     reach = np.searchsorted(sorted_low, high[order, 0] + margin, side="right")
