@@ -26,7 +26,7 @@ import numpy as np
 
 from .geometry2d import group_boxes
 from .graph import Adjacency, connected_components, scatter_rows
-from .overlap import FoldMemory, fold_conflicts, overwound_vertices
+from .overlap import FoldMemory, fold_conflicts
 from .splitting import part_conflicts
 
 #: (6, 3) unit vector of each signed axis.
@@ -272,8 +272,7 @@ def make_injective(mesh, topology, charts, margin=0.0):
     for axis in range(3):
         dirty = None                     # charts to check; None = all of this axis
         # A split chart keeps its signed axis, so the projection is the same every round.
-        first_group, uv, depth, slope = triangle_chart_geometry(mesh, charts, axis)
-        fan_vertices = overwound_vertices(uv, first_group, topology.welded_triangles)
+        _, uv, depth, slope = triangle_chart_geometry(mesh, charts, axis)
         memory = FoldMemory(len(mesh.triangles))
         while True:
             group = chart_of_face[mesh.triangle_face, axis].copy()
@@ -282,7 +281,7 @@ def make_injective(mesh, topology, charts, margin=0.0):
                 group[~dirty[np.maximum(group, 0)]] = -1
             pairs = fold_conflicts(
                 uv, depth, group, topology.welded_triangles, mesh.triangle_face,
-                SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope, fan_vertices, memory)
+                SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope, memory=memory)
             # Two triangles of one face cannot be split apart (a face's corners hold one UV per layer): a
             # polygon folded over itself (a Boolean's n-gon, say) stays as it is rather than be split forever.
             pairs = pairs[mesh.triangle_face[pairs[:, 0]] != mesh.triangle_face[pairs[:, 1]]]

@@ -154,15 +154,66 @@ def overwound_fans(uv, group, welded_triangles, live, fan_vertices=None):
     return v_sorted[first], members.astype(np.int64)
 
 
-def overwound_vertices(uv, group, welded_triangles):
-    """Welded vertices (bool mask, ``welded_triangles.max() + 1``) whose fan in some chart turns more than once.
+def overlapping_wedges(uv, group, welded_triangles, live, pinch_keys, fan_vertices=None):
+    """Chart triangles around one vertex, in two or more wedges, whose angles overlap.
 
-    Splitting a chart never makes a fan turn further, so these are the only
-    vertices where later rounds of :func:`fold_conflicts` need to look.
+    Where a chart touches itself at a vertex (its triangles there form
+    separate wedges, as where a scan's pole or a pinched rim meets itself),
+    two wedges can overlap while the angles add up to less than a full turn,
+    which :func:`overwound_fans` does not see.  Each triangle covers the
+    directions from its corner at the vertex counter-clockwise (every chart
+    triangle faces the axis) through its angle there; sorted by the first
+    direction, a triangle overlaps the next one when the next starts before
+    it ends (and the last the first, a full turn on).
+
+    Parameters
+    ----------
+    uv, group, welded_triangles, live
+        As for :func:`overwound_fans`.
+    pinch_keys : (p,) int64, sorted
+        ``group * vertex_count + vertex`` of the vertices to look at (four or
+        more boundary sides of the chart meet there).
+    fan_vertices : (w,) bool, optional
+        Only these welded vertices are looked at.
+
+    Returns
+    -------
+    vertex : (k,) int64, members : (k, 2) int64, one overlapping pair per entry
     """
-    mask = np.zeros(int(welded_triangles.max()) + 1 if welded_triangles.size else 0, dtype=bool)
-    mask[overwound_fans(uv, group, welded_triangles, np.flatnonzero(group >= 0))[0]] = True
-    return mask
+    empty = np.zeros(0, dtype=np.int64), np.zeros((0, 2), dtype=np.int64)
+    if not len(pinch_keys) or not len(live):
+        return empty
+    vertex_count = int(welded_triangles.max()) + 1
+    corner_vertex = welded_triangles[live]                                     # (k, 3)
+    key = group[live][:, None] * vertex_count + corner_vertex
+    keep = np.isin(key, pinch_keys)
+    if fan_vertices is not None:
+        keep &= fan_vertices[corner_vertex]
+    triangle_index, corner = np.nonzero(keep)
+    if len(triangle_index) < 2:
+        return empty
+    triangle, key = live[triangle_index], key[triangle_index, corner]
+    at = uv[triangle, corner]
+    toward = uv[triangle, (corner + 1) % 3] - at
+    start = np.mod(np.arctan2(toward[:, 1], toward[:, 0]), 2.0 * np.pi)
+    width = triangle_angles(uv[triangle])[np.arange(len(triangle)), corner]
+    order = np.lexsort((start, key))
+    triangle, key, start, width = triangle[order], key[order], start[order], width[order]
+    run_start = np.ones(len(key), dtype=bool)
+    run_start[1:] = key[1:] != key[:-1]
+    run_end = np.ones(len(key), dtype=bool)
+    run_end[:-1] = run_start[1:]
+    following = np.arange(1, len(key) + 1)
+    following[run_end] = np.flatnonzero(run_start)       # the last one's next is the first, a turn on
+    turn = np.where(run_end, 2.0 * np.pi, 0.0)
+    overlap = start[following] + turn < start + width - ANGLE_TOLERANCE
+    overlap &= following != np.arange(len(key))                      # a vertex with one triangle there
+    pairs = np.stack([triangle[overlap], triangle[following[overlap]]], axis=1)
+    return key[overlap] % vertex_count, pairs
+
+
+#: Two wedges at a vertex overlapping by less than this (radians) only touch (rounding).
+ANGLE_TOLERANCE = 1e-9
 
 
 class FoldMemory:
@@ -172,7 +223,9 @@ class FoldMemory:
     holding its triangle), and whether two boundary sides conflict depends on
     the two sides alone.  So after a split only the new boundary sides (the
     cuts) need pairing up; the conflicts found before stay conflicts while
-    both sides stay in one chart.
+    both sides stay in one chart.  Nor does a split make a fan turn further
+    or two wedges at a vertex overlap more, so later rounds look for those
+    only around the vertices where the first round found them.
 
     Parameters
     ----------
@@ -182,6 +235,7 @@ class FoldMemory:
     def __init__(self, triangle_count):
         self.boundary_side = np.zeros((triangle_count, 3), dtype=bool)   # sides paired up before
         self.conflicts = np.zeros((0, 2), dtype=np.int64)                 # boundary conflicts, triangle pairs
+        self.fan_vertices = None                                          # where the first round found fans
         self.rounds = 0
 
 
@@ -197,7 +251,8 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     * boundary edges (sides used by one chart triangle) that come within
       ``touch`` (or ``margin``) of each other in 2D, where their depths differ
       by more than the tolerance plus what the slopes explain;
-    * vertices whose fan of chart triangles turns more than 360 degrees;
+    * vertices whose fan of chart triangles turns more than 360 degrees, or
+      whose separate wedges of chart triangles overlap;
     * edges shared by three or more chart triangles, two on the same side,
       and edges whose two chart triangles both run them the same way
       (winding flipped across them), which puts both on one side.
@@ -219,8 +274,9 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     slope : (t,) float, optional
         |d depth / d uv| of each triangle.
     fan_vertices : (w,) bool, optional
-        Look for overwound fans only around these welded vertices
-        (:func:`overwound_vertices` of the unsplit charts); all when not given.
+        Look for overwound fans and overlapping wedges only around these
+        welded vertices; all when not given (after the first round with a
+        ``memory``: where that round found them).
     memory : FoldMemory, optional
         Kept between the rounds of one axis (the same ``uv``, ``depth``,
         tolerances and margin, each round's charts pieces of the last's
@@ -307,8 +363,24 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         memory.conflicts = boundary_hits
         memory.rounds += 1
 
-    # 2. Vertices whose fan turns more than once.
-    found.append(overwound_fans(uv, group, welded_triangles, live, fan_vertices)[1])
+    # 2. Vertices whose fan turns more than once, or where wedges of the chart overlap: only where four
+    #    boundary sides of one chart or more meet can it have two wedges there.
+    if fan_vertices is None and memory is not None and memory.rounds > 1:
+        fan_vertices = memory.fan_vertices
+    fan_vertex, fan_pairs = overwound_fans(uv, group, welded_triangles, live, fan_vertices)
+    vertex_count = int(welded_triangles.max()) + 1
+    ends = np.concatenate([low[boundary], high[boundary]])
+    keys, meeting = np.unique(np.concatenate([group[b_tri], group[b_tri]]) * vertex_count + ends,
+                              return_counts=True)
+    wedge_vertex, wedge_pairs = overlapping_wedges(uv, group, welded_triangles, live, keys[meeting >= 4],
+                                                   fan_vertices)
+    one, two = wedge_pairs[:, 0], wedge_pairs[:, 1]
+    tolerance = np.maximum(depth_tolerance[one], depth_tolerance[two])
+    apart = overlap_depth_gap(uv[one], depth[one], uv[two], depth[two], closed=True) > tolerance
+    found += [fan_pairs, wedge_pairs[apart]]
+    if memory is not None and memory.rounds == 1:
+        memory.fan_vertices = np.zeros(vertex_count, dtype=bool)
+        memory.fan_vertices[np.concatenate([fan_vertex, wedge_vertex[apart]])] = True
 
     # 3. Sides shared by 3+ chart triangles: two of them on the same side overlap.  All such pairs of all
     #    these sides at once: a non-manifold chart (an interior's touching boxes) has thousands.  A side of

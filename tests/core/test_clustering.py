@@ -348,3 +348,39 @@ def test_the_depth_gap_of_a_triangle_inside_another_with_a_corner_on_its_side():
     assert overlap_depth_gap(small, small_depth, big, big_depth, closed=True)[0] == pytest.approx(0.3)
     apart = np.array([[[2.0, 0.0], [3.0, 0.0], [2.0, 1.0]]])
     assert overlap_depth_gap(apart, big_depth, big, big_depth, closed=True)[0] == -1.0
+
+
+def test_a_chart_touching_itself_at_a_vertex_with_one_wedge_inside_the_other_is_a_fold():
+    """Two triangles of one chart meeting only at a vertex (the chart pinched there), the second lying inside
+    the first and 0.3 above it.  Their sides cross nowhere but at that vertex, where boundary sides sharing an
+    end are not compared; their angles there add up to 63 degrees, far from a full turn; they share no side.
+    Only the overlap of the two wedges shows the fold; no pair when the second wedge only touches the first."""
+    from seamless_ao.core.overlap import fold_conflicts
+
+    def conflicts(inner):
+        uv = np.array([[[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]], [[0.0, 0.0]] + inner])
+        depth = np.array([[0.0, 0.0, 0.0], [0.0, 0.3, 0.3]])
+        return fold_conflicts(uv, depth, np.zeros(2, dtype=np.int64), np.array([[0, 1, 2], [0, 3, 4]]),
+                              np.arange(2), 1e-9, 1e-9).tolist()
+
+    assert conflicts([[1.0, 0.3], [1.0, 0.7]]) == [[0, 1]]
+    assert conflicts([[0.5, 1.0], [0.0, 1.0]]) == []                 # from 63 to 90 degrees: beside it
+
+
+def test_overlapping_wedges_sees_overlaps_across_the_zero_direction_and_not_wedges_that_touch():
+    """Wedges at vertex 0 of one chart (pinch_keys names it): 300 to 380 degrees against 10 to 60 overlap
+    across the zero direction; 100 to 200 against 200 to 280 only touch."""
+    from seamless_ao.core.overlap import overlapping_wedges
+
+    def wedge(start, end):
+        a, b = np.radians([start, end])
+        return [[0.0, 0.0], [np.cos(a), np.sin(a)], [np.cos(b), np.sin(b)]]
+
+    def pairs(first, second):
+        uv = np.array([wedge(*first), wedge(*second)])
+        welded = np.array([[0, 1, 2], [0, 3, 4]])
+        return overlapping_wedges(uv, np.zeros(2, dtype=np.int64), welded, np.arange(2), np.array([0]))[1]
+
+    assert sorted(map(sorted, pairs((300, 380), (10, 60)).tolist())) == [[0, 1]]
+    assert len(pairs((100, 200), (200, 280))) == 0
+    assert len(pairs((100, 200), (150, 180))) > 0
