@@ -11,7 +11,7 @@ import numpy as np
 from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
 from .geometry2d import (barycentric_2d, corner_max, corner_min, line_crossing, segment_distance, separated,
                          triangle_angles)
-from .graph import index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
+from .graph import group_starts, index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b, closed=False):
@@ -199,13 +199,12 @@ def overlapping_wedges(uv, group, welded_triangles, live, pinch_keys, fan_vertic
     width = triangle_angles(uv[triangle])[np.arange(len(triangle)), corner]
     order = np.lexsort((start, key))
     triangle, key, start, width = triangle[order], key[order], start[order], width[order]
-    run_start = np.ones(len(key), dtype=bool)
-    run_start[1:] = key[1:] != key[:-1]
-    run_end = np.ones(len(key), dtype=bool)
-    run_end[:-1] = run_start[1:]
+    starts = group_starts(key)
+    first, last = starts[:-1], starts[1:] - 1
     following = np.arange(1, len(key) + 1)
-    following[run_end] = np.flatnonzero(run_start)       # the last one's next is the first, a turn on
-    turn = np.where(run_end, 2.0 * np.pi, 0.0)
+    following[last] = first                               # the last one's next is the first, a turn on
+    turn = np.zeros(len(key))
+    turn[last] = 2.0 * np.pi
     overlap = start[following] + turn < start + width - ANGLE_TOLERANCE
     overlap &= following != np.arange(len(key))                      # a vertex with one triangle there
     pairs = np.stack([triangle[overlap], triangle[following[overlap]]], axis=1)
@@ -240,7 +239,7 @@ class FoldMemory:
 
 
 def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tolerance, touch, margin=0.0, slope=None,
-                   fan_vertices=None, memory=None):
+                   memory=None):
     """Triangle pairs that keep a chart from being injective, found from its boundary.
 
     Every triangle of a chart faces the chart's axis, so the projection is an
@@ -273,15 +272,12 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         Also report distant surfaces closer than this in 2D (about two texels).
     slope : (t,) float, optional
         |d depth / d uv| of each triangle.
-    fan_vertices : (w,) bool, optional
-        Look for overwound fans and overlapping wedges only around these
-        welded vertices; all when not given (after the first round with a
-        ``memory``: where that round found them).
     memory : FoldMemory, optional
         Kept between the rounds of one axis (the same ``uv``, ``depth``,
         tolerances and margin, each round's charts pieces of the last's
         conflicting ones): boundary sides already paired up are not paired
-        again.
+        again, and overwound fans and overlapping wedges are looked for only
+        around the vertices where the first round found them.
 
     Returns
     -------
@@ -317,7 +313,8 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     touch_most = float(touch[live].max())
     fresh = None                                 # sides not paired up in an earlier round (None: all)
     boundary_hits = np.zeros((0, 2), dtype=np.int64)
-    if memory is not None and memory.rounds:
+    later = memory is not None and memory.rounds > 0         # a round after the first, with what it found
+    if later:
         fresh = ~memory.boundary_side[b_tri, b_corner]
         a, b = memory.conflicts[:, 0], memory.conflicts[:, 1]
         boundary_hits = memory.conflicts[(group[a] >= 0) & (group[a] == group[b])]
@@ -365,8 +362,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
 
     # 2. Vertices whose fan turns more than once, or where wedges of the chart overlap: only where four
     #    boundary sides of one chart or more meet can it have two wedges there.
-    if fan_vertices is None and memory is not None and memory.rounds > 1:
-        fan_vertices = memory.fan_vertices
+    fan_vertices = memory.fan_vertices if later else None
     fan_vertex, fan_pairs = overwound_fans(uv, group, welded_triangles, live, fan_vertices)
     vertex_count = int(welded_triangles.max()) + 1
     ends = np.concatenate([low[boundary], high[boundary]])
@@ -378,7 +374,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     tolerance = np.maximum(depth_tolerance[one], depth_tolerance[two])
     apart = overlap_depth_gap(uv[one], depth[one], uv[two], depth[two], closed=True) > tolerance
     found += [fan_pairs, wedge_pairs[apart]]
-    if memory is not None and memory.rounds == 1:
+    if memory is not None and not later:
         memory.fan_vertices = np.zeros(vertex_count, dtype=bool)
         memory.fan_vertices[np.concatenate([fan_vertex, wedge_vertex[apart]])] = True
 
