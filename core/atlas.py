@@ -18,8 +18,19 @@ import numpy as np
 from .clustering import project
 from .cover import chart_covers
 from .errors import SeamlessAOError
+from .geometry2d import group_boxes
 from .packing import (MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density,
                       xatlas_padding)
+
+
+#: A chart longer than this many image widths at the density that would fill the image
+#: (:func:`estimate_density`) is packed at a lower density of its own: one stray face must not
+#: take the texels of the whole mesh (:func:`long_chart_factors`).
+LONG_CHART_IMAGES = 1.0
+#: With a texel density given, a chart longer than this many texels is packed at a lower density of its own,
+LONG_CHART_TEXELS = 4096
+#: ... if such charts hold at most this share of the triangles (a few stray faces, not the mesh itself).
+FEW_LONG_MEMBERS = 0.01
 
 
 @dataclass
@@ -125,18 +136,25 @@ def chart_members(mesh, charts):
     return triangle.astype(np.int64), per_axis[triangle, axis], membership
 
 
-def chart_plane_area(mesh, charts):
-    """Total area of all charts in their planes (object units squared).
-
-    No projection is needed (:func:`_member_plane_area`).
-    """
-    member_triangle, member_chart, _ = chart_members(mesh, charts)
-    return float(_member_plane_area(mesh, charts, member_triangle, member_chart).sum())
-
-
 def _member_plane_area(mesh, charts, member_triangle, member_chart):
     """(m,) area of each member projected on its chart's plane: half the axis component of its cross product."""
     return 0.5 * np.abs(mesh.triangle_cross[member_triangle, charts.chart_axis[member_chart] // 2])
+
+
+def expected_density(mesh, charts, image_size):
+    """Texels per object unit at which the charts would fill about half an ``image_size`` image: the
+    :func:`estimate_density` of their area, where the members longer than the image at that density count
+    as :func:`long_chart_factors` will shrink them (a spike to a stray vertex counts for little)."""
+    member_triangle, member_chart, _ = chart_members(mesh, charts)
+    member_area = _member_plane_area(mesh, charts, member_triangle, member_chart)
+    density = estimate_density(float(member_area.sum()), image_size)
+    # a triangle's longest side (twice its area over its least height) is longer than any projection of it
+    longest = 2.0 * mesh.triangle_area / np.maximum(mesh.corner_height.min(axis=1), 1e-300)
+    if not longest.max(initial=0.0) * density > LONG_CHART_IMAGES * image_size:
+        return density
+    factor = long_chart_factors(longest[member_triangle], member_area, np.arange(len(member_area)),
+                                LONG_CHART_IMAGES * image_size, image_size=image_size, utilisation=0.55)
+    return estimate_density(float((member_area * factor**2).sum()), image_size)
 
 
 def estimate_density(area, image_size, utilisation=0.55):
@@ -188,6 +206,21 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     if not live.any():
         raise SeamlessAOError("The mesh has no face with area; there is nothing to pack")
     member_area = _member_plane_area(mesh, charts, member_triangle, member_chart)
+    # chart boxes from the members (covers at the common density first would band a spike's chart 10^9 times)
+    low, high = group_boxes(local_uv[live], member_chart[live], charts.count)
+    longest = np.where(np.isfinite(low[:, 0]), (high - low).max(axis=1), 0.0)
+    if image_size is not None:
+        factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_IMAGES * image_size,
+                                    image_size=image_size)
+    else:
+        factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_TEXELS,
+                                    density=density)
+        if (factor[member_chart[live]] < 1.0).mean() > FEW_LONG_MEMBERS:
+            factor[:] = 1.0                 # the mesh itself is that large at this density: refused below
+    if (factor < 1.0).any():
+        # a chart only moves and scales in its plane, so scaling its coordinates is all it takes
+        local_uv *= factor[member_chart][:, None, None]
+        member_area *= factor[member_chart] ** 2
     area = float(member_area[live].sum())
     expected = density if density is not None else estimate_density(area, image_size, 0.7)
     covers = chart_covers(local_uv[live], member_chart[live], charts.count, expected)
@@ -223,6 +256,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     orphan_triangle, orphan_chart = _adopt_orphans(mesh, topology, charts)
     if len(orphan_triangle):
         orphan_local, _ = project(mesh.corners[orphan_triangle], charts.chart_axis[orphan_chart][:, None])
+        orphan_local *= factor[orphan_chart][:, None, None]
         member_uv = np.concatenate([member_uv, _apply(transforms[orphan_chart], orphan_local)])
         member_triangle = np.concatenate([member_triangle, orphan_triangle])
         member_chart = np.concatenate([member_chart, orphan_chart])
@@ -244,7 +278,50 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
         membership=membership, dominant_member=dominant_member,
         member_placed=np.arange(len(member_triangle)) < len(member_triangle) - len(orphan_triangle),
         charts=charts, chart_texel=placement.point_texel, chart_texel_member=point_member,
-        padding=padding, warnings=placement.warnings())
+        padding=padding, warnings=_long_chart_warning(factor) + placement.warnings())
+
+
+def long_chart_factors(longest, member_area, member_chart, limit, image_size=None, density=None, utilisation=0.7):
+    """(c,) float64 in (0, 1]: the share of the common texel density each chart is packed at.
+
+    A chart longer than ``limit`` texels at the density the layout expects
+    (``density``, or :func:`estimate_density` of the charts' area in an
+    ``image_size`` image) gets just ``limit`` texels along its longer side;
+    the others keep the common density (1).  Long charts are cut into pieces
+    before (:func:`.clustering.cut_long_charts`), but not their faces: a
+    spike to a stray vertex, or one long quad, is one face however long.
+    Without this, the density search would shrink every chart until that
+    one fits.  With ``image_size``, the expected density is that of the
+    area once the long charts are shrunk (three rounds).
+
+    Parameters
+    ----------
+    longest : (c,) float64, object units: each chart's longer side in its plane
+    member_area : (m,) float64, object units squared; member_chart : (m,) int
+    limit : float, texels
+    utilisation : float, of the image, for :func:`estimate_density`
+    """
+    factor = np.ones(len(longest))
+    for _ in range(1 if density is not None else 3):
+        expected = density if density is not None else estimate_density(
+            float((member_area * factor[member_chart] ** 2).sum()), image_size, utilisation)
+        factor = np.minimum(1.0, limit / np.maximum(longest * expected, 1e-300))
+    return factor
+
+
+def _long_chart_warning(factor):
+    """Sentences for the bake report about charts :func:`long_chart_factors` shrank."""
+    shrunk = factor < 1.0
+    if not shrunk.any():
+        return []
+    return ["{:,} chart{} too long for the image (a face far larger than the rest, such as a spike to a stray "
+            "vertex): packed with {} times fewer texels per unit than the rest".format(
+                int(shrunk.sum()), "s were" if shrunk.sum() > 1 else " was", _times(1.0 / float(factor.min())))]
+
+
+def _times(ratio):
+    """``ratio`` >= 1 for a sentence: "up to 206", "over a million"."""
+    return "up to {:,.0f}".format(ratio) if ratio < 1e6 else "over a million"
 
 
 def _chart_centres(mesh, member_triangle, member_chart, chart_count):

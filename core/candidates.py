@@ -8,8 +8,59 @@ only leave out pairs that cannot be a conflict there.
 
 import numpy as np
 
-from .geometry2d import corner_max, corner_min
+from .geometry2d import boxes_of_groups, corner_max, corner_min
 from .graph import index_in_runs, pairs_within_groups, sort_order
+
+
+#: A box more than this many grid cells long is a giant (a spike to a stray vertex):
+#: :func:`giants_clipped` keeps it to where the rest of its group is.
+GIANT_CELLS = 1024
+
+
+def giants_clipped(low, high, group, cell, grow=0.0):
+    """Boxes ``low, high`` (n, 2) with each giant (more than :data:`GIANT_CELLS` ``cell`` s long) cut down to
+    the box of the other boxes of its ``group`` (n,) int >= 0 that are no giants, grown by ``grow``.
+
+    No overlap of a giant with a box of its group that is no giant (grown by
+    ``grow``) is lost: it lies inside that box.  Two giants must be compared
+    by their whole boxes (:func:`giant_pairs`).  A giant with no other box of
+    its group within reach becomes a point near the other boxes (an extra
+    candidate, if any, is only tested).  Without this, one spike to a vertex 10^10 out lists itself in
+    10^12 cells.
+
+    Returns
+    -------
+    low, high : (n, 2) float64; giant : (n,) bool
+    """
+    giant = (high - low).max(axis=1) > GIANT_CELLS * cell
+    if not giant.any():
+        return low, high, giant
+    count = int(group.max()) + 1
+    rest_low, rest_high = boxes_of_groups(low[~giant], high[~giant], group[~giant], count)
+    index = np.flatnonzero(giant)
+    where = group[index]
+    new_low = np.maximum(low[index], rest_low[where] - grow)
+    new_high = np.minimum(high[index], rest_high[where] + grow)
+    apart = (new_low > new_high).any(axis=1)
+    # anywhere near the rest will do (a false candidate is only tested); far out, its cell would not fit int64
+    near = boxes_of_groups(low[~giant], high[~giant], np.zeros((~giant).sum(), dtype=np.int64), 1)
+    near = np.clip(low[index[apart]], near[0][0], near[1][0]) if (~giant).any() else 0.0
+    new_low[apart] = new_high[apart] = near
+    low, high = low.copy(), high.copy()
+    low[index], high[index] = new_low, new_high
+    return low, high, giant
+
+
+def giant_pairs(low, high, group, giant):
+    """(p, 2) int64 pairs ``i < j`` of giants (``giant`` (n,) bool) of one ``group`` whose whole boxes
+    ``low, high`` (n, 2) meet: all pairs of each group's giants, tested (giants are few)."""
+    index = np.flatnonzero(giant)
+    index = index[np.argsort(group[index], kind="stable")]
+    sorted_group = group[index]
+    starts = np.concatenate((np.flatnonzero(np.r_[True, sorted_group[1:] != sorted_group[:-1]]), [len(index)]))
+    i, j = index[pairs_within_groups(starts).T]
+    meet = ((low[i] <= high[j]) & (low[j] <= high[i])).all(axis=1)
+    return np.stack([np.minimum(i, j)[meet], np.maximum(i, j)[meet]], axis=1)
 
 
 def box_cells(low, high, origin, cell):
@@ -67,14 +118,13 @@ def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0):
         return np.zeros((0, 2), dtype=np.int64)
     low = corner_min(uv[live]) - 0.5 * margin
     high = corner_max(uv[live]) + 0.5 * margin
+    typical = float(np.median((high - low).max(axis=1)))
+    whole_low, whole_high = low, high
+    low, high, giant = giants_clipped(low, high, group[live], max(typical, 1e-300))
     extent = high - low
     # Cells about the size of a typical triangle, but never so small that the
     # few huge triangles of a mixed mesh fill millions of cells.
-    cell = max(
-        float(np.median(extent.max(axis=1))),
-        float(np.sqrt((extent[:, 0] * extent[:, 1]).sum() / (4.0 * len(live)))),
-        1e-300,
-    )
+    cell = max(typical, float(np.sqrt((extent[:, 0] * extent[:, 1]).sum() / (4.0 * len(live)))), 1e-300)
     first, last, entry, cell_x, cell_y = box_cells(low, high, low.min(axis=0), cell)
     if query is not None:
         # only the cells a query shape touches (one int64 key per group and cell)
@@ -105,8 +155,17 @@ def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0):
         axis_low, axis_high = np.ascontiguousarray(low[:, axis]), np.ascontiguousarray(high[:, axis])
         keep &= axis_low[i] <= axis_high[j]
         keep &= axis_low[j] <= axis_high[i]
-    i, j = live[i[keep]], live[j[keep]]                  # i < j: a cell lists its shapes in order
-    if depth is not None:                                # ... unless it lists them by depth
+    i, j = i[keep], j[keep]
+    if giant.any():                     # two giants: by their whole boxes (the grid only saw them clipped)
+        apart = ~(giant[i] & giant[j])
+        extra = giant_pairs(whole_low, whole_high, group[live], giant)
+        if depth is not None:
+            d = depth[live]
+            extra = extra[np.maximum(d[extra[:, 0]].max(axis=1) - d[extra[:, 1]].min(axis=1),
+                                     d[extra[:, 1]].max(axis=1) - d[extra[:, 0]].min(axis=1)) > spread]
+        i, j = np.concatenate([i[apart], extra[:, 0]]), np.concatenate([j[apart], extra[:, 1]])
+    i, j = live[i], live[j]                              # i < j: a cell lists its shapes in order
+    if depth is not None or giant.any():                 # ... unless it lists them by depth
         i, j = np.minimum(i, j), np.maximum(i, j)
     if query is not None:
         asked = query[i] | query[j]
@@ -217,6 +276,9 @@ def without_quiet_sides(seg, seg_depth, seg_group, margin):
     low, high = corner_min(seg[live]), corner_max(seg[live])
     # cells as large as candidate_pairs' (a typical segment with its margin), never smaller than the margin
     cell = 1.001 * max(margin, float(np.median((high - low).max(axis=1))) + margin)
+    # a giant keeps the cells within reach of the rest of its group (its depths still count in all of
+    # them); it is never quiet (two giants meet anywhere along them)
+    low, high, giant = giants_clipped(low, high, seg_group[live], cell, grow=margin + 2.0 * cell)
     # every cell has its neighbours at indices >= 0
     first, last, entry, cell_x, cell_y = box_cells(low, high, low.min(axis=0) - cell, cell)
     columns, rows = int(last[:, 0].max()) + 2, int(last[:, 1].max()) + 2
@@ -237,7 +299,7 @@ def without_quiet_sides(seg, seg_depth, seg_group, margin):
         around_deep[there] = np.maximum(around_deep[there], deep[at[there]])
     loud = np.bincount(entry, weights=(around_deep - around_shallow > margin)[cell_of], minlength=len(live)) > 0
     result = seg_group.copy()
-    result[live[~loud]] = -1
+    result[live[~(loud | giant)]] = -1
     return result
 
 

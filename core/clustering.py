@@ -304,7 +304,7 @@ def cut_long_charts(mesh, charts, max_length):
     the density of the whole layout (a 1:1000 beam would get a texel across).
     A long chart's faces are split by where their centre falls along the
     chart's longer side, into ``ceil(length / max_length)`` slabs; each slab
-    is a chart of its own on the same signed axis.  A piece of an injective
+    with faces in it is a chart of its own on the same signed axis.  A piece of an injective
     chart is injective, so nothing else changes.
 
     Returns
@@ -321,7 +321,8 @@ def cut_long_charts(mesh, charts, max_length):
         uv, _ = project(corners[triangle], chart_axis[chart][:, None], axis)
         low, high = group_boxes(uv, chart, len(chart_axis))
         length = np.where(np.isfinite(low), high - low, 0.0)
-        pieces = np.ceil(length.max(axis=1) / max(max_length, 1e-300)).astype(np.int64)
+        # slabs as a float count: a spike to a stray vertex makes its chart 10^9 slabs long, few of them used
+        pieces = np.minimum(np.ceil(length.max(axis=1) / max(max_length, 1e-300)), 2.0**52)
         long_chart = pieces > 1
         keep = long_chart[chart]
         if not keep.any():
@@ -332,15 +333,20 @@ def cut_long_charts(mesh, charts, max_length):
         start, span = low[chart, along[chart]], length[chart, along[chart]]
         slab = np.clip((centre - start) / span * pieces[chart], 0, pieces[chart] - 1).astype(np.int64)
         face = mesh.triangle_face[triangle]
-        # a face's slab: that of its first triangle; slab 0 keeps the chart's id
+        # a face's slab: that of its first triangle
         face_slab = np.zeros(mesh.face_count, dtype=np.int64)
         face_slab[face[::-1]] = slab[::-1]
         faces = np.unique(face)
-        base = np.zeros(len(chart_axis), dtype=np.int64)
-        base[long_chart] = len(chart_axis) + np.concatenate([[0], np.cumsum(pieces[long_chart] - 1)])[:-1]
         old = column[faces]
-        column[faces] = np.where(face_slab[faces] == 0, old, base[old] + face_slab[faces] - 1)
-        chart_axis = np.concatenate([chart_axis, np.repeat(chart_axis[long_chart], pieces[long_chart] - 1)])
+        # the slabs each chart's faces are in, numbered 0, 1, ... along it; the first keeps the chart's id
+        used, slab_of_face = np.unique(np.stack([old, face_slab[faces]], axis=1), axis=0, return_inverse=True)
+        chart_first = np.flatnonzero(np.r_[True, used[1:, 0] != used[:-1, 0]])
+        piece = (np.arange(len(used)) - np.repeat(chart_first, np.diff(np.r_[chart_first, len(used)])))[
+            slab_of_face.reshape(-1)]
+        extra = np.maximum(np.bincount(used[:, 0], minlength=len(chart_axis)) - 1, 0)      # (c,) new ids
+        base = len(chart_axis) + np.concatenate([[0], np.cumsum(extra)])[:-1]
+        column[faces] = np.where(piece == 0, old, base[old] + piece - 1)
+        chart_axis = np.concatenate([chart_axis, np.repeat(chart_axis, extra)])
     if len(chart_axis) == len(charts.chart_axis):
         return charts
     return _renumber(Charts(chart_of_face, chart_axis, charts.dominant_axis, charts.splits))

@@ -19,6 +19,9 @@ import numpy as np
 
 from .raster import texel_geometry
 
+#: Texel positions are clipped to this distance from the origin (object units) before float32
+#: distances are squared (squares up to 1.2e37, under float32's 3.4e38).
+FARTHEST = 1.0e18
 #: Rows of texels filtered at once.
 BAND_ROWS = 256
 #: Width of the distance weight, in texels, with many rays per texel (from 8 on).
@@ -103,7 +106,9 @@ def denoise(texels, atlas, mesh, values, computed, rays, radius=None, space_sigm
         valid = grid(np.ones(len(halo), dtype=bool), False, bool)
         chart = grid(chart_of_texel[halo], -1, np.int64)
         # One plane per coordinate: sums over a trailing axis of 3 are slow in numpy.
-        point = [grid(points[:, k].astype(np.float32), 0.0, np.float32) for k in range(3)]
+        # clipped where float32 squares of differences would overflow (stray vertices 10^18 out)
+        point = [grid(np.clip(points[:, k], -FARTHEST, FARTHEST).astype(np.float32), 0.0, np.float32)
+                 for k in range(3)]
         normal = [grid(normals[:, k].astype(np.float32), 0.0, np.float32) for k in range(3)]
         # noise of an AO estimate from ``rays`` rays (binomial), floored at one ray's worth
         count = grid(np.broadcast_to(np.asarray(rays, dtype=np.float32), values.shape)[halo], 1.0, np.float32)

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .adjacency import Topology, face_adjacency
-from .atlas import Atlas, chart_plane_area, estimate_density, pack_charts
+from .atlas import Atlas, expected_density, pack_charts
 from .clustering import Charts, cut_long_charts, make_injective, signed_axis_clusters
 from .errors import SeamlessAOError
 from .mesh import TriangleMesh, require_faces
@@ -75,7 +75,7 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     timings["charts"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    expected = density if density is not None else estimate_density(chart_plane_area(mesh, charts), image_size)
+    expected = density if density is not None else expected_density(mesh, charts, image_size)
     # One injectivity pass with a margin: it splits folds (what cluster_faces
     # does) and also keeps distant parts of a chart a few texels apart, so
     # filtering at a chart's edge never mixes in AO from another surface.

@@ -11,6 +11,7 @@ from functools import cached_property
 import numpy as np
 
 from .errors import SeamlessAOError
+from .extent import box_size, mesh_size, robust_box
 from .graph import connected_components, group_starts, scatter_rows, sort_order
 
 
@@ -35,8 +36,11 @@ class TriangleMesh:
     corner_normals : (t, 3, 3) float64
         Shading normal at each triangle corner (flat faces: the face normal).
     scale : float
-        Bounding-box diagonal of the used vertices (the largest part's, for
-        meshes put together with :meth:`concatenate`).
+        Bounding-box diagonal of the used vertices, a few stray ones left out
+        (:func:`.extent.robust_box`; the largest part's, for meshes put together
+        with :meth:`concatenate`).
+    box : ((3,), (3,)) float64
+        That box, ``(low, high)`` (of all parts together, for meshes put together).
     part_of_vertex : (v,) int64
         Input mesh of each vertex (all 0 for one mesh); parts never weld.
     part_scale : (p,) float64
@@ -57,6 +61,7 @@ class TriangleMesh:
     face_count: int = 0
     # Derived, filled by ``__post_init__``.
     scale: float = field(init=False, default=1.0)
+    box: tuple = field(init=False, repr=False, default=None)
     part_of_vertex: np.ndarray = field(init=False, repr=False, default=None)
     part_scale: np.ndarray = field(init=False, repr=False, default=None)
     triangle_cross: np.ndarray = field(init=False, repr=False, default=None)
@@ -80,9 +85,8 @@ class TriangleMesh:
             raise SeamlessAOError("The mesh has vertices at infinite or undefined (NaN) positions")
         if not self.face_count:
             self.face_count = int(self.triangle_face.max()) + 1 if t else 0
-        used = np.zeros(len(self.positions), dtype=bool)
-        used[self.triangles.ravel()] = True
-        self.scale = mesh_size(self.positions[used] if t else self.positions)
+        self.box = robust_box(self.positions, self.triangles) if t else (np.zeros(3), np.zeros(3))
+        self.scale = box_size(*self.box) if t else mesh_size(self.positions)
         self.part_of_vertex = np.zeros(len(self.positions), dtype=np.int64)
         self.part_scale = np.array([self.scale])
         # kept: the clustering, injectivity, cutting and packing passes all read them
@@ -170,15 +174,6 @@ class TriangleMesh:
         live = np.zeros(self.face_count, dtype=bool)
         live[self.triangle_face[~self.degenerate]] = True
         return ~live
-
-
-def mesh_size(positions):
-    """Bounding-box diagonal of ``positions`` (v, 3); 1.0 for an empty or point-like set."""
-    positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
-    if not len(positions):
-        return 1.0
-    size = float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0)))
-    return size if size > 0.0 else 1.0
 
 
 def boxes_near(low, high, lows, highs, reach):
@@ -311,6 +306,10 @@ def weld_vertices(positions, tolerance, groups=None):
     group_count = int(groups.max()) + 1
     group_low = scatter_rows(np.minimum, np.full((group_count, 3), np.inf), groups, positions)
     cell = (positions - group_low[groups]) / np.broadcast_to(np.asarray(tolerance, dtype=np.float64), (count,))[:, None]
+    # a stray vertex 10^9 mesh sizes out: its cell would not fit an int64, and it welds only where equal
+    far = (cell > 2.0**50).any(axis=1)
+    if far.any():
+        cell = np.minimum(cell, 2.0**50)
     cells_per_axis = np.floor(cell.max(axis=0)).astype(np.int64) + 2
     single_key = float(np.prod(cells_per_axis.astype(np.float64))) * group_count < 2.0**62
     # Vertices at one position share every cell: weld them at once, and only their lowest one to others.
@@ -331,6 +330,7 @@ def weld_vertices(positions, tolerance, groups=None):
     lonely = np.ones(count, dtype=bool)
     lonely[by_along[1:][close]] = False
     lonely[by_along[:-1][close]] = False
+    lonely |= far
     others = lowest[~lonely[lowest]]                   # ascending: each cell's first is still its lowest
     cell, groups = cell[others], groups[others]
     for shift in np.ndindex(2, 2, 2) if len(others) else ():

@@ -17,7 +17,7 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from .mesh import mesh_size
+from .extent import box_size, mesh_size
 from .sealed import sealed_triangles
 
 #: Ray origins are lifted this far (times the object size) off the surface.
@@ -51,13 +51,14 @@ def pilot_rays(rays, adaptive):
     return rays if not adaptive else min(rays, max(16, rays // 4))
 
 
-def ao_params(settings, positions, rays=None):
+def ao_params(settings, positions, rays=None, offset_size=None):
     """:class:`AOParams` of a bake for an object whose vertices in ray space are ``positions`` (v, 3).
 
     The object's size (bounding-box diagonal) sets the automatic maximum
-    distance (half of it) and the origin offset; the ground plane lies at the
-    lowest vertex.  ``settings`` is a :class:`..settings.BakeSettings`;
-    ``rays`` overrides its ray count.
+    distance (half of it) and the origin offset (``offset_size`` where
+    given: without a spike to a stray vertex, :func:`ray_part`); the ground
+    plane lies at the lowest vertex.  ``settings`` is a
+    :class:`..settings.BakeSettings`; ``rays`` overrides its ray count.
     """
     size = mesh_size(positions)
     return AOParams(
@@ -65,7 +66,7 @@ def ao_params(settings, positions, rays=None):
         max_distance=0.5 * size if settings.auto_distance else settings.max_distance,
         cone_angle=settings.cone_angle, falloff=settings.falloff, distribution=settings.distribution,
         ignore_backfaces=settings.ignore_backfaces, horizon_bias=settings.horizon_bias,
-        adaptive=settings.adaptive, seed=settings.seed, offset=ORIGIN_OFFSET * size,
+        adaptive=settings.adaptive, seed=settings.seed, offset=ORIGIN_OFFSET * (size if offset_size is None else offset_size),
         ground_height=float(np.min(positions[:, 2])) if settings.use_ground_plane else None)
 
 
@@ -121,21 +122,24 @@ class BVHCaster:
         self.tree = None
 
 
-def ray_space(positions, linear):
+def ray_space(positions, linear, box=None):
     """The space rays are cast in: object shape as seen (its linear transform), centred.
 
     Parameters
     ----------
     positions : (v, 3) float64, object space
     linear : (3, 3) float64, the object's world matrix without translation
+    box : ((3,), (3,)) float64, optional: the object-space box to centre on (by default that of ``positions``)
 
     Returns
     -------
-    centre : (3,) float64, object-space centre of the bounding box
+    centre : (3,) float64, object-space centre of ``box``
     to_ray : callable ``(points, normals) -> (points, normals)`` for (k, 3) arrays
     """
     linear = np.asarray(linear, dtype=np.float64)
-    centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0)) if len(positions) else np.zeros(3)
+    if box is None:
+        box = (positions.min(axis=0), positions.max(axis=0)) if len(positions) else (np.zeros(3), np.zeros(3))
+    centre = 0.5 * (box[0] + box[1])
     normal_matrix = np.linalg.inv(linear)            # row vectors: n' = n @ inv(L)  ==  inv(L)^T n
 
     def to_ray(points, normals=None):
@@ -208,9 +212,18 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     rays : int, optional, overrides the settings' ray count
     """
     matrix = np.asarray(matrix, dtype=np.float64)
-    centre, to_ray = ray_space(mesh.positions, matrix[:3, :3])
-    own = to_ray(mesh.positions)
-    params = ao_params(settings, own, rays)
+    whole = (mesh.positions.min(axis=0), mesh.positions.max(axis=0))
+    if np.array_equal(np.array(mesh.box), np.array(whole)):
+        centre, to_ray = ray_space(mesh.positions, matrix[:3, :3])
+        own = to_ray(mesh.positions)
+        params = ao_params(settings, own, rays)
+    else:
+        # a spike to a stray vertex (or a loose one far out): centred on the rest, offset for the rest's size
+        centre, to_ray = ray_space(mesh.positions, matrix[:3, :3], box=mesh.box)
+        own = to_ray(mesh.positions)
+        corners = to_ray(np.array([[mesh.box[k][0], mesh.box[m][1], mesh.box[n][2]]
+                                   for k in (0, 1) for m in (0, 1) for n in (0, 1)]))
+        params = ao_params(settings, own, rays, offset_size=box_size(corners.min(axis=0), corners.max(axis=0)))
     positions, triangles = [own], [world_winding(mesh.triangles, matrix[:3, :3])]
     if occluders is not None:
         shift = matrix[:3, :3] @ centre + matrix[:3, 3]               # ray space + shift = world

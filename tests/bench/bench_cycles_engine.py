@@ -26,7 +26,7 @@ from common import finish, markdown_table, say
 
 from bench_fixed_cost import scene
 from plain_reference import hidden, plain_ao
-from seamless_ao.core.mesh import mesh_size
+from seamless_ao.core.extent import mesh_size
 from seamless_ao.core.pipeline import bake_arrays
 from seamless_ao.core.raster import COVERED, texel_geometry
 from seamless_ao.core.rays import ORIGIN_OFFSET, AOParams

@@ -70,6 +70,32 @@ def test_hard_mesh(name, addon, fresh_scene):
     check_accuracy(ob, report, mesh, loops)
 
 
+def test_a_spike_to_a_stray_vertex_leaves_the_rest_baked_as_without_it(addon, fresh_scene):
+    """A thin triangle to a vertex 1,000 units out on a 2-unit sphere.  Before, it set the texel density of
+    the whole image: the sphere got 2,052 texels of 512x512.  Now the spike's chart
+    alone is packed at a lower density, the report says so, every triangle's points still read baked
+    texels, and what the material shows on the sphere is within the usual limits of the plain reference
+    (of the mesh with its spike)."""
+    from hard_meshes import scaled_suzanne_like, spike
+    plain = seamless_ao.bake([add_object("plain", mesh_from_faces("plain", *scaled_suzanne_like(1.0)))], **SETTINGS)
+    positions, faces = spike()
+    ob = add_object("spike", mesh_from_faces("spike", positions, faces))
+    report = seamless_ao.bake([ob], **SETTINGS)
+    check_output(ob, report)
+    assert [w for w in report.warnings if "1 chart was too long for the image" in w], report.warnings
+    assert report.utilisation > 0.8 * plain.utilisation, (report.utilisation, plain.utilisation)     # was 0.3%
+    mesh, loops = read_triangles(ob.data)
+    check_coverage(ob, mesh, loops, np.random.default_rng(0))
+    triangle, bary, normals = surface_samples(mesh, 800, seed=2)
+    on_sphere = mesh.triangle_face[triangle] != len(faces) - 1
+    assert on_sphere.sum() > 700
+    triangle, bary, normals = triangle[on_sphere], bary[on_sphere], normals[on_sphere]
+    reference = reference_ao(ob, mesh, triangle, bary, normals, rays=1024)
+    shown = shown_seamless(ob, bpy.data.images[report.image], loops, triangle, bary, normals)
+    rmse, p99 = errors(shown, reference)
+    assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (rmse, p99)
+
+
 def test_custom_split_normals_are_the_normals_baked_with(addon, fresh_scene):
     """Issue 16, item 2: a smooth-shaded mesh whose custom split normals are its face normals bakes as the
     same mesh shaded flat (and not as it would shaded smooth)."""

@@ -112,6 +112,15 @@ def diagonal_normals():
     return np.vstack([octa, roof]), faces
 
 
+def spike(far=1e3):
+    """The bumpy sphere (1,520 triangles) with one thin triangle, a thousandth of a unit wide at its base,
+    reaching a stray vertex ``far`` out (a scan's outlier): the rest must bake as if it were not there."""
+    positions, faces = scaled_suzanne_like(1.0)
+    first = faces[0][0]
+    positions = np.vstack([positions, positions[first] + [0.0, 0.0, 1e-3], [[far, 0.0, 0.0]]])
+    return positions, faces + [[first, len(positions) - 2, len(positions) - 1]]
+
+
 def single_triangle():
     return np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.3]]), [[0, 1, 2]]
 
