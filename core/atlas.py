@@ -27,6 +27,8 @@ from .packing import (MIN_PADDING, POINT_TEXELS, Packer, density_filling, effect
 #: (:func:`estimate_density`) is packed at a lower density of its own: one stray face must not
 #: take the texels of the whole mesh (:func:`long_chart_factors`).
 LONG_CHART_IMAGES = 1.0
+#: Such a chart is packed this share of that long (a spike's texels show next to nothing).
+SHRUNK_CHART_SHARE = 0.25
 #: With a texel density given, a chart longer than this many texels is packed at a lower density of its own,
 LONG_CHART_TEXELS = 4096
 #: ... if such charts hold at most this share of the triangles (a few stray faces, not the mesh itself).
@@ -150,10 +152,11 @@ def expected_density(mesh, charts, image_size):
     density = estimate_density(float(member_area.sum()), image_size)
     # a triangle's longest side (twice its area over its least height) is longer than any projection of it
     longest = 2.0 * mesh.triangle_area / np.maximum(mesh.corner_height.min(axis=1), 1e-300)
-    if not longest.max(initial=0.0) * density > LONG_CHART_IMAGES * image_size:
+    if not longest.max(initial=0.0) * density > SHRUNK_CHART_SHARE * LONG_CHART_IMAGES * image_size:
         return density
     factor = long_chart_factors(longest[member_triangle], member_area, np.arange(len(member_area)),
-                                LONG_CHART_IMAGES * image_size, image_size=image_size, utilisation=0.55)
+                                LONG_CHART_IMAGES * image_size, image_size=image_size, utilisation=0.55,
+                                stray=mesh.stray[member_triangle])
     return estimate_density(float((member_area * factor**2).sum()), image_size)
 
 
@@ -209,12 +212,14 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     # chart boxes from the members (covers at the common density first would band a spike's chart 10^9 times)
     low, high = group_boxes(local_uv[live], member_chart[live], charts.count)
     longest = np.where(np.isfinite(low[:, 0]), (high - low).max(axis=1), 0.0)
+    stray = np.zeros(charts.count, dtype=bool)
+    stray[member_chart[mesh.stray[member_triangle]]] = True
     if image_size is not None:
         factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_IMAGES * image_size,
-                                    image_size=image_size)
+                                    image_size=image_size, stray=stray)
     else:
         factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_TEXELS,
-                                    density=density)
+                                    density=density, stray=stray)
         if (factor[member_chart[live]] < 1.0).mean() > FEW_LONG_MEMBERS:
             factor[:] = 1.0                 # the mesh itself is that large at this density: refused below
     if (factor < 1.0).any():
@@ -281,18 +286,23 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
         padding=padding, warnings=_long_chart_warning(factor) + placement.warnings())
 
 
-def long_chart_factors(longest, member_area, member_chart, limit, image_size=None, density=None, utilisation=0.7):
+def long_chart_factors(longest, member_area, member_chart, limit, image_size=None, density=None, utilisation=0.7,
+                       stray=None):
     """(c,) float64 in (0, 1]: the share of the common texel density each chart is packed at.
 
     A chart longer than ``limit`` texels at the density the layout expects
     (``density``, or :func:`estimate_density` of the charts' area in an
-    ``image_size`` image) gets just ``limit`` texels along its longer side;
-    the others keep the common density (1).  Long charts are cut into pieces
+    ``image_size`` image) gets :data:`SHRUNK_CHART_SHARE` of ``limit``
+    texels along its longer side (before the density search scales all
+    charts alike), and so does a ``stray`` chart longer than that (one
+    holding triangles the mesh's size leaves out, :attr:`.mesh.TriangleMesh.stray`:
+    a sheet of spikes to far outliers is more surface than the rest); the
+    others keep the common density (1).  Long charts are cut into pieces
     before (:func:`.clustering.cut_long_charts`), but not their faces: a
     spike to a stray vertex, or one long quad, is one face however long.
     Without this, the density search would shrink every chart until that
     one fits.  With ``image_size``, the expected density is that of the
-    area once the long charts are shrunk (three rounds).
+    area once the long charts are shrunk.
 
     Parameters
     ----------
@@ -300,12 +310,30 @@ def long_chart_factors(longest, member_area, member_chart, limit, image_size=Non
     member_area : (m,) float64, object units squared; member_chart : (m,) int
     limit : float, texels
     utilisation : float, of the image, for :func:`estimate_density`
+    stray : (c,) bool, optional
     """
-    factor = np.ones(len(longest))
-    for _ in range(1 if density is not None else 3):
-        expected = density if density is not None else estimate_density(
-            float((member_area * factor[member_chart] ** 2).sum()), image_size, utilisation)
-        factor = np.minimum(1.0, limit / np.maximum(longest * expected, 1e-300))
+    target = SHRUNK_CHART_SHARE * limit
+    trigger = np.full(len(longest), float(limit)) if stray is None else np.where(stray, target, float(limit))
+    longest = np.maximum(longest, 1e-300)
+    if density is not None:
+        return np.where(longest * density > trigger, target / (longest * density), 1.0)
+    # Shrunk to ``target`` texels long, a chart takes area * (target / longest)^2 texels whatever the density,
+    # so the density that fills the image with the rest follows from the set of shrunk charts directly.
+    area = np.bincount(member_chart, member_area, len(longest))
+    room = utilisation * float(image_size) ** 2
+    shrunk = np.zeros(len(longest), dtype=bool)
+    for _ in range(16):
+        rest = float(area[~shrunk].sum())
+        held = float((area[shrunk] * (target / longest[shrunk]) ** 2).sum())
+        if rest > 0.0 and room > held:
+            expected = np.sqrt((room - held) / rest)
+        else:                         # the long charts alone would fill the image: as if none were shrunk
+            expected = estimate_density(float(area.sum()), image_size, utilisation)
+        now = longest * expected > trigger
+        if np.array_equal(now, shrunk):
+            break
+        shrunk = now
+    factor = np.where(shrunk, target / (longest * expected), 1.0)
     return factor
 
 

@@ -8,10 +8,15 @@ out must not set it (:func:`robust_box`).
 import numpy as np
 
 #: The size that sets the tolerances leaves out the triangles reaching far out of the rest of the mesh
-#: (:func:`robust_box`) if they are at most this share of the triangles ...
+#: (:func:`robust_box`) if they are at most this share of the triangles (or :data:`STRAY_LEAST`) ...
 OUTLIER_SHARE = 1.0e-3
+STRAY_LEAST = 16
 #: ... and the whole box is more than this many times larger than the rest (a spike to a stray vertex).
 OUTLIER_RATIO = 10.0
+#: The rest: the vertices without this share of them (at least :data:`TRIM_LEAST`, the corners of
+#: :data:`STRAY_LEAST` triangles) at each end of each axis.
+TRIM_SHARE = 0.01
+TRIM_LEAST = 3 * STRAY_LEAST
 
 
 def mesh_size(positions):
@@ -24,42 +29,44 @@ def mesh_size(positions):
 
 
 def robust_box(positions, triangles):
-    """``(low, high)`` (3,) float64: the bounding box of the vertices ``triangles`` (t, 3) use of ``positions``
-    (v, 3), without the few triangles that reach far out, if there are such.
+    """``(low, high, stray)``: the bounding box (3,) float64 of the vertices ``triangles`` (t, 3) use of
+    ``positions`` (v, 3), without the few triangles that reach far out, if there are such (``stray`` (t,) bool).
 
     Triangles reach far out when they have a vertex outside the box of the
-    rest (the vertices without the :data:`OUTLIER_SHARE` at each end of each
+    rest (the vertices without the :data:`TRIM_SHARE` at each end of each
     axis) grown by that box's diagonal on every side.  They are left out
-    when they are at most :data:`OUTLIER_SHARE` of the triangles (of 1,000 or
-    more) and the whole box is more than :data:`OUTLIER_RATIO` times larger
-    than the rest: a spike to a stray vertex, never a cone's long tip, whose
-    triangles are many.  Otherwise a scan with one spike to a vertex 10,000
-    units out would weld (and call zero-area) whatever lies within a
-    hundredth of a unit, and cast its rays from float32 positions 5,000
-    units from the box's centre.
+    when the mesh has 1,000 triangles or more, they are at most
+    :data:`OUTLIER_SHARE` of them (or :data:`STRAY_LEAST`, if more) and the
+    whole box is more than :data:`OUTLIER_RATIO` times larger than the rest:
+    a spike to a stray vertex, or a few triangles floating far off, never a
+    cone's long tip, whose triangles are many.  Otherwise a scan with one
+    spike to a vertex 10,000 units out would weld (and call zero-area)
+    whatever lies within a hundredth of a unit, and cast its rays from
+    float32 positions 5,000 units from the box's centre.
     """
     positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
     triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
     used = np.zeros(len(positions), dtype=bool)
     used[triangles.ravel()] = True
     points = positions[used]
+    none = np.zeros(len(triangles), dtype=bool)
     if not len(points):
-        return np.zeros(3), np.zeros(3)
+        return np.zeros(3), np.zeros(3), none
     low, high = points.min(axis=0), points.max(axis=0)
     if len(triangles) < 1000:
-        return low, high
-    trim = max(1, int(len(points) * OUTLIER_SHARE))
+        return low, high, none
+    trim = min(max(TRIM_LEAST, int(len(points) * TRIM_SHARE)), (len(points) - 1) // 4)
     ends = np.partition(points, (trim, len(points) - 1 - trim), axis=0)
     inner_low, inner_high = ends[trim], ends[len(points) - 1 - trim]
     reach = float(np.linalg.norm(inner_high - inner_low))
     if not np.linalg.norm(high - low) > OUTLIER_RATIO * reach:
-        return low, high
+        return low, high, none
     outside = ((positions < inner_low - reach) | (positions > inner_high + reach)).any(axis=1)
     stray = outside[triangles].any(axis=1)
-    if stray.sum() > OUTLIER_SHARE * len(triangles) or stray.all():
-        return low, high
+    if stray.sum() > max(OUTLIER_SHARE * len(triangles), STRAY_LEAST) or stray.all():
+        return low, high, none
     kept = positions[triangles[~stray]].reshape(-1, 3)
-    return kept.min(axis=0), kept.max(axis=0)
+    return kept.min(axis=0), kept.max(axis=0), stray
 
 
 def box_size(low, high):

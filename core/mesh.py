@@ -41,6 +41,10 @@ class TriangleMesh:
         with :meth:`concatenate`).
     box : ((3,), (3,)) float64
         That box, ``(low, high)`` (of all parts together, for meshes put together).
+    stray : (t,) bool
+        The triangles left out of it (a spike to a stray vertex, a few
+        triangles floating far off): their charts get few texels
+        (:func:`.atlas.long_chart_factors`).
     part_of_vertex : (v,) int64
         Input mesh of each vertex (all 0 for one mesh); parts never weld.
     part_scale : (p,) float64
@@ -62,6 +66,7 @@ class TriangleMesh:
     # Derived, filled by ``__post_init__``.
     scale: float = field(init=False, default=1.0)
     box: tuple = field(init=False, repr=False, default=None)
+    stray: np.ndarray = field(init=False, repr=False, default=None)
     part_of_vertex: np.ndarray = field(init=False, repr=False, default=None)
     part_scale: np.ndarray = field(init=False, repr=False, default=None)
     triangle_cross: np.ndarray = field(init=False, repr=False, default=None)
@@ -85,8 +90,9 @@ class TriangleMesh:
             raise SeamlessAOError("The mesh has vertices at infinite or undefined (NaN) positions")
         if not self.face_count:
             self.face_count = int(self.triangle_face.max()) + 1 if t else 0
-        self.box = robust_box(self.positions, self.triangles) if t else (np.zeros(3), np.zeros(3))
-        self.scale = box_size(*self.box) if t else mesh_size(self.positions)
+        low, high, self.stray = robust_box(self.positions, self.triangles)
+        self.box = (low, high)
+        self.scale = box_size(low, high) if t else mesh_size(self.positions)
         self.part_of_vertex = np.zeros(len(self.positions), dtype=np.int64)
         self.part_scale = np.array([self.scale])
         # kept: the clustering, injectivity, cutting and packing passes all read them
@@ -135,7 +141,7 @@ class TriangleMesh:
             np.concatenate([m.corner_normals for m in meshes]),
             face_count=int(face_offsets[-1]),
         )
-        for name in ("triangle_cross", "triangle_area", "triangle_normal", "degenerate", "corner_normals"):
+        for name in ("triangle_cross", "triangle_area", "triangle_normal", "degenerate", "corner_normals", "stray"):
             setattr(combined, name, np.concatenate([getattr(m, name) for m in meshes]))
         combined.scale = max(m.scale for m in meshes)
         combined.part_of_vertex = np.repeat(np.arange(len(meshes)), np.diff(vertex_offsets))

@@ -52,6 +52,46 @@ def test_a_spike_to_a_stray_vertex_leaves_the_rest_of_the_layout_as_it_was(scan,
     assert overlaps_per_axis(spiked, after.topology, after.charts) == [0, 0, 0]
 
 
+def debris(positions, triangles, kind, rng):
+    """``positions, triangles`` plus debris far out: three spikes in three directions, three floating
+    clusters of five triangles, or a sheet of seven triangles fanning out from one vertex to 10^7."""
+    positions, triangles = np.asarray(positions, dtype=np.float64), np.asarray(triangles)
+    if kind == "spikes":
+        for far, direction in ((1e3, (1.0, 0.2, 0.0)), (1e8, (0.0, -1.0, 0.3)), (1e11, (-0.6, 0.6, 0.5))):
+            first, second = triangles[rng.integers(len(triangles)), :2]
+            positions = np.vstack([positions, np.array(direction) * far])
+            triangles = np.vstack([triangles, [[first, second, len(positions) - 1]]])
+    elif kind == "floaters":
+        for far, direction in ((1e2, (1.0, 1.0, 0.0)), (1e5, (0.0, -1.0, 0.0)), (1e9, (0.0, 0.0, 1.0))):
+            corners = np.array(direction) * far + rng.normal(0.0, 0.5, (15, 3))
+            triangles = np.vstack([triangles, len(positions) + np.arange(15).reshape(5, 3)])
+            positions = np.vstack([positions, corners])
+    else:
+        ends = 1e7 * np.stack([np.ones(8), np.linspace(-1e-3, 1e-3, 8), np.zeros(8)], axis=1)
+        start = len(positions)
+        positions = np.vstack([positions, ends])
+        triangles = np.vstack([triangles, np.stack([np.full(7, triangles[0, 0]), start + np.arange(7),
+                                                    start + 1 + np.arange(7)], axis=1)])
+    return positions, triangles
+
+
+@pytest.mark.parametrize("kind", ["spikes", "floaters", "sheet"])
+@pytest.mark.parametrize("image_size", [256, 1024])
+def test_debris_far_out_leaves_the_rest_of_the_layout_as_it_was(kind, image_size):
+    """Each of these once left the sphere a few texels, or welded it into a handful of vertices: three
+    spikes outran the one vertex the box left out at each end, three floating clusters the allowance of
+    stray triangles, and a sheet of spikes 10^7 out is more surface than the sphere.  What the mesh's size
+    leaves out is debris: its charts get few texels, and the sphere keeps its own."""
+    sphere = meshes.uv_sphere(rings=30, segments=60)
+    plain = TriangleMesh.from_triangles(*sphere, smooth=True)
+    mesh = TriangleMesh.from_triangles(*debris(*sphere, kind, np.random.default_rng(0)), smooth=True)
+    assert mesh.scale == plain.scale and mesh.stray.sum() == len(mesh.triangles) - len(plain.triangles)
+    before, after = build_layout(plain, image_size=image_size), build_layout(mesh, image_size=image_size)
+    assert after.atlas.utilisation > 0.8 * before.atlas.utilisation
+    check_texels_finite(after)
+    assert overlaps_per_axis(mesh, after.topology, after.charts) == [0, 0, 0]
+
+
 def test_a_spike_at_a_given_texel_density_is_shrunk_instead_of_refused():
     """With a texel density instead of an image size, a face that would need an image wider than the
     largest allowed is packed at a lower density of its own; it used to refuse the whole bake."""
@@ -68,10 +108,11 @@ def test_the_box_of_a_mesh_leaves_out_a_spike_but_not_a_long_tip_or_loose_vertic
     sphere_positions, sphere_triangles = meshes.uv_sphere(rings=30, segments=60)
     full = (sphere_positions.min(axis=0), sphere_positions.max(axis=0))
     positions, triangles = with_spike(sphere_positions, sphere_triangles, 1e5)
-    assert np.array_equal(np.array(robust_box(positions, triangles)), np.array(full))
+    low, high, stray = robust_box(positions, triangles)
+    assert np.array_equal(np.array([low, high]), np.array(full)) and np.flatnonzero(stray).tolist() == [len(triangles) - 1]
     # a stray vertex in no triangle never counts
     loose = np.vstack([sphere_positions, [[1e9, 0.0, 0.0]]])
-    assert np.array_equal(np.array(robust_box(loose, sphere_triangles)), np.array(full))
+    assert np.array_equal(np.array(robust_box(loose, sphere_triangles)[:2]), np.array(full))
     # under 1,000 triangles nothing is left out
     small_positions, small_triangles = meshes.uv_sphere(rings=10, segments=20)
     positions, triangles = with_spike(small_positions, small_triangles, 1e5)
@@ -84,7 +125,8 @@ def test_the_box_of_a_mesh_leaves_out_a_spike_but_not_a_long_tip_or_loose_vertic
     following = np.roll(np.arange(segments), -1)
     triangles = np.concatenate([np.stack([np.arange(segments), following, np.full(segments, segments)], 1),
                                 np.stack([following, np.arange(segments), np.full(segments, segments + 1)], 1)])
-    low, high = robust_box(positions, triangles)
+    low, high, stray = robust_box(positions, triangles)
+    assert not stray.any()
     assert high[2] == 20.0 and len(triangles) >= 1000
 
 
