@@ -342,14 +342,16 @@ def _long_chart_warning(factor):
     shrunk = factor < 1.0
     if not shrunk.any():
         return []
-    return ["{:,} chart{} too long for the image (a face far larger than the rest, such as a spike to a stray "
-            "vertex): packed with {} times fewer texels per unit than the rest".format(
+    return ["{:,} chart{} too long for the image or far out of the rest of the mesh (a spike to a stray vertex, "
+            "debris far off): packed with {} times fewer texels per unit than the rest".format(
                 int(shrunk.sum()), "s were" if shrunk.sum() > 1 else " was", _times(1.0 / float(factor.min())))]
 
 
 def _times(ratio):
-    """``ratio`` >= 1 for a sentence: "up to 206", "over a million"."""
-    return "up to {:,.0f}".format(ratio) if ratio < 1e6 else "over a million"
+    """``ratio`` >= 1 for a sentence: "up to 1.4", "up to 206", "over a million"."""
+    if ratio >= 1e6:
+        return "over a million"
+    return "up to {:,.1f}".format(ratio) if ratio < 10 else "up to {:,.0f}".format(ratio)
 
 
 def _chart_centres(mesh, member_triangle, member_chart, chart_count):
