@@ -404,4 +404,8 @@ def require_faces(mesh):
     if not len(mesh.triangles):
         raise SeamlessAOError("The mesh has no faces to bake (only vertices or loose edges)")
     if mesh.degenerate.all():
+        if (mesh.triangle_area > 0.0).any():
+            raise SeamlessAOError(
+                "Every face of the mesh is too small to bake next to its size ({:.3g} across): many vertices lie "
+                "far from the rest; delete them, or bake the parts separately".format(mesh.scale))
         raise SeamlessAOError("Every face of the mesh has zero area; there is no surface to bake")

@@ -219,3 +219,17 @@ def test_without_quiet_sides_keeps_both_sides_of_a_deep_pair_with_a_spike_far_ou
     assert must[(a == 0) & (b == 1)].any() and must[(a == 2) & (b == 3)].any()
     assert (loud[a[must]] >= 0).all() and (loud[b[must]] >= 0).all()
     assert (loud == -1).sum() > 200                                  # and it still leaves most sides out
+
+
+def test_a_small_mesh_whose_faces_vanish_next_to_vertices_far_out_is_refused_saying_why():
+    """Under 1,000 triangles nothing is left out of the mesh's size, so a small triangle 10^12 out makes
+    every face zero-area next to it.  The refusal says that, rather than that the faces have no area."""
+    from seamless_ao.core.errors import SeamlessAOError
+    from seamless_ao.core.mesh import require_faces
+    positions, triangles = meshes.uv_sphere(rings=10, segments=20)
+    positions = np.vstack([positions, [[1e12, 0.0, 0.0], [1e12, 1.0, 0.0], [1e12, 0.0, 1.0]]])
+    triangles = np.vstack([triangles, [[len(positions) - 3, len(positions) - 2, len(positions) - 1]]])
+    with pytest.raises(SeamlessAOError, match="too small to bake next to its size .* far from the rest"):
+        require_faces(TriangleMesh.from_triangles(positions, triangles))
+    with pytest.raises(SeamlessAOError, match="zero area"):
+        require_faces(TriangleMesh.from_triangles(np.zeros((3, 3)), [[0, 1, 2]]))
