@@ -209,19 +209,21 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     if not live.any():
         raise SeamlessAOError("The mesh has no face with area; there is nothing to pack")
     member_area = _member_plane_area(mesh, charts, member_triangle, member_chart)
-    # chart boxes from the members (covers at the common density first would band a spike's chart 10^9 times)
-    low, high = group_boxes(local_uv[live], member_chart[live], charts.count)
-    longest = np.where(np.isfinite(low[:, 0]), (high - low).max(axis=1), 0.0)
-    stray = np.zeros(charts.count, dtype=bool)
-    stray[member_chart[mesh.stray[member_triangle]]] = True
-    if image_size is not None:
-        factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_IMAGES * image_size,
-                                    image_size=image_size, stray=stray)
-    else:
-        factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_TEXELS,
-                                    density=density, stray=stray)
-        if (factor[member_chart[live]] < 1.0).mean() > FEW_LONG_MEMBERS:
-            factor[:] = 1.0                 # the mesh itself is that large at this density: refused below
+    factor = np.ones(charts.count)
+    if _may_be_long(mesh, float(member_area[live].sum()), image_size, density):
+        # chart boxes from the members (covers at the common density first would band a spike's chart 10^9 times)
+        low, high = group_boxes(local_uv[live], member_chart[live], charts.count)
+        longest = np.where(np.isfinite(low[:, 0]), (high - low).max(axis=1), 0.0)
+        stray = np.zeros(charts.count, dtype=bool)
+        stray[member_chart[mesh.stray[member_triangle]]] = True
+        if image_size is not None:
+            factor = long_chart_factors(longest, member_area[live], member_chart[live],
+                                        LONG_CHART_IMAGES * image_size, image_size=image_size, stray=stray)
+        else:
+            factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_TEXELS,
+                                        density=density, stray=stray)
+            if (factor[member_chart[live]] < 1.0).mean() > FEW_LONG_MEMBERS:
+                factor[:] = 1.0             # the mesh itself is that large at this density: refused below
     if (factor < 1.0).any():
         # a chart only moves and scales in its plane, so scaling its coordinates is all it takes
         local_uv *= factor[member_chart][:, None, None]
@@ -335,6 +337,19 @@ def long_chart_factors(longest, member_area, member_chart, limit, image_size=Non
         shrunk = now
     factor = np.where(shrunk, target / (longest * expected), 1.0)
     return factor
+
+
+def _may_be_long(mesh, area, image_size, density):
+    """Whether :func:`long_chart_factors` may shrink a chart: never when the whole mesh's box, at the density
+    it starts from, is within the length it shrinks charts from (a quarter of that with debris): no chart is
+    longer than the box's diagonal, and the density only grows once a chart is shrunk."""
+    if not len(mesh.positions):
+        return False
+    reach = float(np.linalg.norm(mesh.positions.max(axis=0) - mesh.positions.min(axis=0)))
+    shortest = SHRUNK_CHART_SHARE if mesh.stray.any() else 1.0
+    if density is not None:
+        return reach * density > shortest * LONG_CHART_TEXELS
+    return reach * estimate_density(area, image_size, 0.7) > shortest * LONG_CHART_IMAGES * image_size
 
 
 def _long_chart_warning(factor):

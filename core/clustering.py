@@ -339,11 +339,14 @@ def cut_long_charts(mesh, charts, max_length):
         faces = np.unique(face)
         old = column[faces]
         # the slabs each chart's faces are in, numbered 0, 1, ... along it; the first keeps the chart's id
-        used, slab_of_face = np.unique(np.stack([old, face_slab[faces]], axis=1), axis=0, return_inverse=True)
-        chart_first = np.flatnonzero(np.r_[True, used[1:, 0] != used[:-1, 0]])
-        piece = (np.arange(len(used)) - np.repeat(chart_first, np.diff(np.r_[chart_first, len(used)])))[
-            slab_of_face.reshape(-1)]
-        extra = np.maximum(np.bincount(used[:, 0], minlength=len(chart_axis)) - 1, 0)      # (c,) new ids
+        order = np.lexsort((face_slab[faces], old))
+        chart_sorted, slab_sorted = old[order], face_slab[faces][order]
+        new_chart = np.r_[True, chart_sorted[1:] != chart_sorted[:-1]]
+        new_piece = new_chart | np.r_[True, slab_sorted[1:] != slab_sorted[:-1]]
+        distinct = np.cumsum(new_piece) - 1
+        piece = np.empty(len(order), dtype=np.int64)
+        piece[order] = distinct - distinct[np.maximum.accumulate(np.where(new_chart, np.arange(len(order)), 0))]
+        extra = np.maximum(np.bincount(chart_sorted[new_piece], minlength=len(chart_axis)) - 1, 0)  # (c,) new ids
         base = len(chart_axis) + np.concatenate([[0], np.cumsum(extra)])[:-1]
         column[faces] = np.where(piece == 0, old, base[old] + piece - 1)
         chart_axis = np.concatenate([chart_axis, np.repeat(chart_axis, extra)])
