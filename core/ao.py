@@ -206,13 +206,19 @@ def buried(behind, rays, params):
     return 2 * behind > np.asarray(rays)
 
 
-def noise_estimate(ao, rays):
+def noise_estimate(ao, rays, neighbour=None):
     """Expected error (one standard deviation, RMS over texels) of AO estimated from independent rays.
 
     Each ray contributes a value in [0, 1], so for a texel whose AO is ``m``
     the variance of one ray is at most m (1 - m); ``rays`` rays divide it by
     ``rays``.  The estimate m̂ (1 - m̂) · n / (n - 1) is unbiased for m (1 - m)
-    with binary rays.  It is an estimate, not a bound: stratified (Sobol')
+    with binary rays.  One ray says nothing of its own texel's variance
+    (m̂ (1 - m̂) is 0 for a binary ray), so texels with one ray share a
+    pooled one: half the mean squared difference between ``neighbour``
+    pairs of one-ray texels (its expectation is their mean variance plus half
+    the square of how much their AO differs, small side by side), or,
+    without such pairs, M (1 - M) of their mean M (at least the mean of
+    their m (1 - m): it is concave).  It is an estimate, not a bound: stratified (Sobol')
     rays and the denoiser do better, and a bake leaves out the texels the
     adaptive stop settled (their pilot rays all agreed, which says nothing of
     their variance: :class:`.job.AOJob`'s ``settled``).
@@ -221,6 +227,9 @@ def noise_estimate(ao, rays):
     ----------
     ao : (n,) float, AO estimates in [0, 1]
     rays : int or (n,) int, rays per estimate
+    neighbour : (n,) int or None
+        Index of an estimate beside each one (the next texel of its chart in
+        its row), ``-1`` where there is none; read only with one ray.
 
     Returns
     -------
@@ -230,8 +239,19 @@ def noise_estimate(ao, rays):
     rays = np.broadcast_to(np.asarray(rays, dtype=np.float64), ao.shape)
     if not len(ao) or rays.min() < 1:
         return 0.0
-    correction = np.where(rays > 1, rays / np.maximum(rays - 1.0, 1.0), 1.0)
-    return float(np.sqrt((ao * (1.0 - ao) * correction / rays).mean()))
+    variance = ao * (1.0 - ao) * rays / np.maximum(rays - 1.0, 1.0)
+    one = rays < 2
+    if one.any():
+        pooled = ao[one].mean()
+        pooled = pooled * (1.0 - pooled)
+        if neighbour is not None:
+            first = np.flatnonzero(one & (np.asarray(neighbour) >= 0))
+            second = np.asarray(neighbour)[first]
+            first, second = first[one[second]], second[one[second]]
+            if len(first):
+                pooled = 0.5 * float(np.mean((ao[first] - ao[second]) ** 2))
+        variance[one] = pooled
+    return float(np.sqrt((variance / rays).mean()))
 
 
 def pilot_agreement(sums, params, pilot_count):

@@ -68,6 +68,14 @@ class Texels:
     def __len__(self):
         return len(self.index)
 
+    def next_in_row(self, chart):
+        """(n,) int64: the texel right of each one when it holds the same ``chart`` ((n,) int), else -1."""
+        beside = np.flatnonzero((self.index[1:] == self.index[:-1] + 1) & (self.index[1:] % self.width != 0)
+                                & (chart[1:] == chart[:-1]))
+        result = np.full(len(self.index), -1, dtype=np.int64)
+        result[beside] = beside + 1
+        return result
+
     def xy(self, selection=slice(None)):
         """(k, 2) int64 texel column and row."""
         index = self.index[selection]

@@ -238,6 +238,20 @@ def test_noise_estimate_matches_independent_rays():
     assert noise_estimate(np.full(10, 0.5), 1) == pytest.approx(0.5)
 
 
+def test_noise_estimate_with_one_ray_is_not_zero():
+    """One binary ray per texel gives 0 or 1, whose own spread is 0: the estimate pools the texels instead,
+    never under the actual RMS error and close to it when AO varies as little as across a real bake."""
+    rng = np.random.default_rng(5)
+    for low, high in ((0.0, 1.0), (0.7, 1.0), (0.85, 0.95)):
+        truth = rng.uniform(low, high, 40000)
+        estimate = rng.binomial(1, truth).astype(float)
+        actual = np.sqrt(np.mean((estimate - truth) ** 2))
+        assert actual * 0.98 < noise_estimate(estimate, 1) < actual * (1.25 if low == 0.0 else 1.05)
+    mixed = np.r_[rng.binomial(1, np.full(20000, 0.9)), rng.binomial(16, np.full(20000, 0.9)) / 16]
+    rays = np.r_[np.ones(20000), np.full(20000, 16)]
+    assert noise_estimate(mixed, rays) == pytest.approx(np.sqrt((0.09 + 0.09 / 16) / 2), rel=0.03)
+
+
 CEILING = [(-BIG, -BIG, 1.0), (-BIG, BIG, 1.0), (BIG, BIG, 1.0), (BIG, -BIG, 1.0)]    # z = 1, facing down
 
 

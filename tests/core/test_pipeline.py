@@ -79,3 +79,16 @@ def test_parts_keep_their_triangles_and_see_what_the_occluders_give():
     floor_texels = together.layout.part_of_texel() == 1
     under = floor_texels & together.computed
     assert together.texel_ao[under].mean() < alone.texel_ao[under].mean() - 0.02
+
+
+def test_the_noise_reported_at_one_ray_is_that_of_two_seeds_apart():
+    """With one ray a texel's own spread says nothing (0 or 1): the report pools neighbouring texels, and
+    the adaptive stop, which stops nothing at one ray, leaves no texel out. The truth: two bakes that differ
+    only in their seed differ by the noise times the square root of 2 at every texel."""
+    mesh = ring_on_a_floor()
+    first, second, still = (bake_arrays(mesh, rays=1, image_size=256, denoise=False, seed=seed, adaptive=adaptive,
+                                        make_caster=BVHCaster) for seed, adaptive in ((1, True), (2, True), (1, False)))
+    truth = np.sqrt(np.mean((first.texel_ao.astype(float) - second.texel_ao.astype(float)) ** 2) / 2)
+    assert truth > 0.1
+    assert 0.9 * truth < first.noise < 1.3 * truth, (first.noise, truth)
+    assert first.noise == still.noise
