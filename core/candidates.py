@@ -9,7 +9,7 @@ only leave out pairs that cannot be a conflict there.
 import numpy as np
 
 from .geometry2d import boxes_of_groups, corner_max, corner_min
-from .graph import index_in_runs, pairs_within_groups, sort_order
+from .graph import group_starts, index_in_runs, pairs_within_groups, sort_order
 
 
 #: A box more than this many grid cells long is a giant (a spike to a stray vertex):
@@ -43,8 +43,7 @@ def giants_clipped(low, high, group, cell, grow=0.0):
     new_high = np.minimum(high[index], rest_high[where] + grow)
     apart = (new_low > new_high).any(axis=1)
     # anywhere near the rest will do (a false candidate is only tested); far out, its cell would not fit int64
-    near = boxes_of_groups(low[~giant], high[~giant], np.zeros((~giant).sum(), dtype=np.int64), 1)
-    near = np.clip(low[index[apart]], near[0][0], near[1][0]) if (~giant).any() else 0.0
+    near = np.clip(low[index[apart]], low[~giant].min(axis=0), high[~giant].max(axis=0)) if (~giant).any() else 0.0
     new_low[apart] = new_high[apart] = near
     low, high = low.copy(), high.copy()
     low[index], high[index] = new_low, new_high
@@ -56,9 +55,7 @@ def giant_pairs(low, high, group, giant):
     ``low, high`` (n, 2) meet: all pairs of each group's giants, tested (giants are few)."""
     index = np.flatnonzero(giant)
     index = index[np.argsort(group[index], kind="stable")]
-    sorted_group = group[index]
-    starts = np.concatenate((np.flatnonzero(np.r_[True, sorted_group[1:] != sorted_group[:-1]]), [len(index)]))
-    i, j = index[pairs_within_groups(starts).T]
+    i, j = index[pairs_within_groups(group_starts(group[index])).T]
     meet = ((low[i] <= high[j]) & (low[j] <= high[i])).all(axis=1)
     return np.stack([np.minimum(i, j)[meet], np.maximum(i, j)[meet]], axis=1)
 
@@ -161,8 +158,7 @@ def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0):
         extra = giant_pairs(whole_low, whole_high, group[live], giant)
         if depth is not None:
             d = depth[live]
-            extra = extra[np.maximum(d[extra[:, 0]].max(axis=1) - d[extra[:, 1]].min(axis=1),
-                                     d[extra[:, 1]].max(axis=1) - d[extra[:, 0]].min(axis=1)) > spread]
+            extra = extra[_spread_exceeds(d.min(axis=1), d.max(axis=1), extra[:, 0], extra[:, 1], spread)]
         i, j = np.concatenate([i[apart], extra[:, 0]]), np.concatenate([j[apart], extra[:, 1]])
     i, j = live[i], live[j]                              # i < j: a cell lists its shapes in order
     if depth is not None or giant.any():                 # ... unless it lists them by depth
@@ -216,8 +212,14 @@ def _pairs_apart_in_depth(entry, cell_x, cell_y, starts, depth, spread):
     here = np.repeat(position, end - first)
     there = np.repeat(first, end - first) + index_in_runs(end - first)
     a, b = entry[here], entry[there]
-    keep = np.maximum(deep[a] - shallow[b], deep[b] - shallow[a]) > spread
+    keep = _spread_exceeds(shallow, deep, a, b, spread)
     return entry, cell_x, cell_y, here[keep], there[keep]
+
+
+def _spread_exceeds(shallow, deep, a, b, spread):
+    """(p,) bool: whether the depths of shapes ``a`` and ``b`` ((p,) int), each spanning ``shallow`` to
+    ``deep`` ((n,) float64), spread over more than ``spread``."""
+    return np.maximum(deep[a] - shallow[b], deep[b] - shallow[a]) > spread
 
 
 def without_flat_groups(seg_group, seg_depth, tolerance):

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .geometry2d import group_boxes
-from .graph import Adjacency, connected_components, scatter_rows
+from .graph import Adjacency, connected_components, group_starts, index_in_runs, scatter_rows
 from .overlap import FoldMemory, fold_conflicts
 from .splitting import part_conflicts
 
@@ -341,12 +341,14 @@ def cut_long_charts(mesh, charts, max_length):
         # the slabs each chart's faces are in, numbered 0, 1, ... along it; the first keeps the chart's id
         order = np.lexsort((face_slab[faces], old))
         chart_sorted, slab_sorted = old[order], face_slab[faces][order]
-        new_chart = np.r_[True, chart_sorted[1:] != chart_sorted[:-1]]
-        new_piece = new_chart | np.r_[True, slab_sorted[1:] != slab_sorted[:-1]]
-        distinct = np.cumsum(new_piece) - 1
+        piece_start = np.flatnonzero(np.r_[True, (chart_sorted[1:] != chart_sorted[:-1])
+                                           | (slab_sorted[1:] != slab_sorted[:-1])])
+        piece_chart = chart_sorted[piece_start]                                   # sorted: runs per chart
+        pieces_of_chart = np.diff(group_starts(piece_chart))
         piece = np.empty(len(order), dtype=np.int64)
-        piece[order] = distinct - distinct[np.maximum.accumulate(np.where(new_chart, np.arange(len(order)), 0))]
-        extra = np.maximum(np.bincount(chart_sorted[new_piece], minlength=len(chart_axis)) - 1, 0)  # (c,) new ids
+        piece[order] = np.repeat(index_in_runs(pieces_of_chart), np.diff(np.r_[piece_start, len(order)]))
+        extra = np.zeros(len(chart_axis), dtype=np.int64)                         # (c,) new ids
+        extra[np.unique(piece_chart)] = pieces_of_chart - 1
         base = len(chart_axis) + np.concatenate([[0], np.cumsum(extra)])[:-1]
         column[faces] = np.where(piece == 0, old, base[old] + piece - 1)
         chart_axis = np.concatenate([chart_axis, np.repeat(chart_axis, extra)])
