@@ -17,7 +17,7 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from .extent import box_size, mesh_size
+from .extent import mesh_size
 from .sealed import sealed_triangles
 
 #: Ray origins are lifted this far (times the object size) off the surface.
@@ -51,23 +51,36 @@ def pilot_rays(rays, adaptive):
     return rays if not adaptive else min(rays, max(16, rays // 4))
 
 
-def ao_params(settings, positions, rays=None, offset_size=None):
+def ao_params(settings, positions, rays=None, rest=None):
     """:class:`AOParams` of a bake for an object whose vertices in ray space are ``positions`` (v, 3).
 
     The object's size (bounding-box diagonal) sets the automatic maximum
-    distance (half of it) and the origin offset (``offset_size`` where
-    given: without a spike to a stray vertex, :func:`ray_part`); the ground
-    plane lies at the lowest vertex.  ``settings`` is a
-    :class:`..settings.BakeSettings`; ``rays`` overrides its ray count.
+    distance (half of it) and the origin offset; the ground plane lies at
+    the lowest vertex.  With ``rest`` (k, 3), the vertices without debris far
+    out (:func:`rest_vertices`), both follow those: a spike to a stray vertex
+    neither lengthens every ray nor drops the ground to its tip.
+    ``settings`` is a :class:`..settings.BakeSettings`; ``rays`` overrides
+    its ray count.
     """
-    size = mesh_size(positions)
+    rest = positions if rest is None or not len(rest) else rest
+    size = mesh_size(rest)
     return AOParams(
         rays=settings.rays if rays is None else rays,
         max_distance=0.5 * size if settings.auto_distance else settings.max_distance,
         cone_angle=settings.cone_angle, falloff=settings.falloff, distribution=settings.distribution,
         ignore_backfaces=settings.ignore_backfaces, horizon_bias=settings.horizon_bias,
-        adaptive=settings.adaptive, seed=settings.seed, offset=ORIGIN_OFFSET * (size if offset_size is None else offset_size),
-        ground_height=float(np.min(positions[:, 2])) if settings.use_ground_plane else None)
+        adaptive=settings.adaptive, seed=settings.seed, offset=ORIGIN_OFFSET * size,
+        ground_height=float(np.min(rest[:, 2])) if settings.use_ground_plane else None)
+
+
+def rest_vertices(mesh):
+    """(k,) int64: the vertices of ``mesh`` its triangles use, but for debris far out (the triangles
+    :attr:`.mesh.TriangleMesh.stray` marks; loose vertices are no part of the mesh), or None when the
+    whole mesh is the rest (its box is :attr:`.mesh.TriangleMesh.box`)."""
+    whole = (mesh.positions.min(axis=0), mesh.positions.max(axis=0))
+    if np.array_equal(np.array(mesh.box), np.array(whole)):
+        return None
+    return np.unique(mesh.triangles[~mesh.stray])
 
 
 class RayCaster(Protocol):
@@ -185,9 +198,11 @@ Occluders = Callable
 
 def world_reach(mesh, matrix, settings):
     """``(low (3,), high (3,), reach)``: the world box of ``mesh`` placed by ``matrix`` (4, 4) and how far its
-    rays reach (the maximum distance :func:`ao_params` gives it): what scene geometry can occlude it."""
+    rays reach (the maximum distance :func:`ao_params` gives it): what scene geometry can occlude it.  Both
+    leave out debris far out (:func:`rest_vertices`), as the rays' maximum distance does."""
     matrix = np.asarray(matrix, dtype=np.float64)
-    world = mesh.positions @ matrix[:3, :3].T + matrix[:3, 3]
+    rest = rest_vertices(mesh)
+    world = (mesh.positions if rest is None else mesh.positions[rest]) @ matrix[:3, :3].T + matrix[:3, 3]
     low, high = (world.min(axis=0), world.max(axis=0)) if len(world) else (np.zeros(3), np.zeros(3))
     reach = 0.5 * mesh_size(world) if settings.auto_distance else settings.max_distance
     return low, high, reach
@@ -212,18 +227,11 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     rays : int, optional, overrides the settings' ray count
     """
     matrix = np.asarray(matrix, dtype=np.float64)
-    whole = (mesh.positions.min(axis=0), mesh.positions.max(axis=0))
-    if np.array_equal(np.array(mesh.box), np.array(whole)):
-        centre, to_ray = ray_space(mesh.positions, matrix[:3, :3])
-        own = to_ray(mesh.positions)
-        params = ao_params(settings, own, rays)
-    else:
-        # a spike to a stray vertex (or a loose one far out): centred on the rest, offset for the rest's size
-        centre, to_ray = ray_space(mesh.positions, matrix[:3, :3], box=mesh.box)
-        own = to_ray(mesh.positions)
-        corners = to_ray(np.array([[mesh.box[k][0], mesh.box[m][1], mesh.box[n][2]]
-                                   for k in (0, 1) for m in (0, 1) for n in (0, 1)]))
-        params = ao_params(settings, own, rays, offset_size=box_size(corners.min(axis=0), corners.max(axis=0)))
+    rest = rest_vertices(mesh)
+    # a spike to a stray vertex (or a loose one far out): centred on the rest, sized by the rest
+    centre, to_ray = ray_space(mesh.positions, matrix[:3, :3], box=None if rest is None else mesh.box)
+    own = to_ray(mesh.positions)
+    params = ao_params(settings, own, rays, rest=None if rest is None else own[rest])
     positions, triangles = [own], [world_winding(mesh.triangles, matrix[:3, :3])]
     if occluders is not None:
         shift = matrix[:3, :3] @ centre + matrix[:3, 3]               # ray space + shift = world

@@ -122,7 +122,8 @@ class BakeSettings(_Settings):
     rays: int = _setting(64, "Rays", "Rays cast per texel (the thesis' default is 64)", min=1, max=4096)
     auto_distance: bool = _setting(
         True, "Automatic Distance",
-        "Use half the object's bounding-box diagonal as the maximum ray distance")
+        "Use half the bounding-box diagonal of the object's faces as the maximum ray distance (debris far "
+        "out, such as a spike to a stray vertex, left out)")
     max_distance: float = _setting(
         1.0, "Max Distance",
         "Hits farther than this do not occlude (scene units, used when Automatic Distance is off)",

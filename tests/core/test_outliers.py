@@ -14,6 +14,8 @@ from seamless_ao.core.candidates import candidate_pairs, without_quiet_sides
 from seamless_ao.core.clustering import cut_long_charts, signed_axis_clusters
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.mesh import TriangleMesh, weld_vertices
+from seamless_ao.core.rays import ray_part, world_reach
+from seamless_ao.core.settings import BakeSettings
 
 
 def with_spike(positions, triangles, far, base=None):
@@ -233,3 +235,28 @@ def test_a_small_mesh_whose_faces_vanish_next_to_vertices_far_out_is_refused_say
         require_faces(TriangleMesh.from_triangles(positions, triangles))
     with pytest.raises(SeamlessAOError, match="zero area"):
         require_faces(TriangleMesh.from_triangles(np.zeros((3, 3)), [[0, 1, 2]]))
+
+
+@pytest.mark.parametrize("far", [-1e3, 1e8])
+def test_a_spike_neither_lengthens_the_rays_nor_drops_the_ground_plane(scan, far):
+    """The automatic maximum distance is half the mesh's size and the ground plane lies at its lowest
+    point: a spike to a stray vertex (here below the scan too, rotated in the world) changes neither, nor
+    the box the scene's occluders are gathered around; before, the rays of the scan reached as far as the
+    spike and the ground dropped to its tip."""
+    positions, triangles = scan
+    spiked = with_spike(positions, triangles, 1.0, base=0.1)[0]
+    spiked[-1] = [far, far, far]
+    alone = TriangleMesh.from_triangles(positions, triangles)
+    with_it = TriangleMesh.from_triangles(spiked, with_spike(positions, triangles, 1.0, base=0.1)[1])
+    assert with_it.stray.sum() == 1
+    matrix = np.eye(4)
+    matrix[:3, :3] = [[0.0, -2.0, 0.0], [2.0, 0.0, 0.0], [0.0, 0.0, 2.0]]
+    matrix[:3, 3] = [5.0, -3.0, 1.0]
+    settings = BakeSettings(use_ground_plane=True, use_scene_occluders=True)
+    parts = [ray_part(mesh, matrix, settings, lambda *arrays: None) for mesh in (alone, with_it)]
+    expected, found = parts[0].params, parts[1].params
+    assert found.max_distance == pytest.approx(expected.max_distance, rel=1e-9)
+    assert found.ground_height == pytest.approx(expected.ground_height, abs=1e-9 * alone.scale)
+    assert found.offset == pytest.approx(expected.offset, rel=1e-9)
+    for one, other in zip(world_reach(alone, matrix, settings), world_reach(with_it, matrix, settings)):
+        assert np.allclose(one, other, rtol=1e-9, atol=1e-9)
