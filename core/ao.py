@@ -245,8 +245,9 @@ def noise_estimate(ao, rays, neighbour=None):
         pooled = ao[one].mean()
         pooled = pooled * (1.0 - pooled)
         if neighbour is not None:
-            first = np.flatnonzero(one & (np.asarray(neighbour) >= 0))
-            second = np.asarray(neighbour)[first]
+            neighbour = np.asarray(neighbour)
+            first = np.flatnonzero(one & (neighbour >= 0))
+            second = neighbour[first]
             first, second = first[one[second]], second[one[second]]
             if len(first):
                 pooled = 0.5 * float(np.mean((ao[first] - ao[second]) ** 2))

@@ -18,6 +18,7 @@ import numpy as np
 from .clustering import project
 from .cover import chart_covers
 from .errors import SeamlessAOError
+from .extent import mesh_size
 from .geometry2d import group_boxes
 from .packing import (MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density,
                       xatlas_padding)
@@ -343,9 +344,7 @@ def _may_be_long(mesh, area, image_size, density):
     """Whether :func:`long_chart_factors` may shrink a chart: never when the whole mesh's box, at the density
     it starts from, is within the length it shrinks charts from (a quarter of that with debris): no chart is
     longer than the box's diagonal, and the density only grows once a chart is shrunk."""
-    if not len(mesh.positions):
-        return False
-    reach = float(np.linalg.norm(mesh.positions.max(axis=0) - mesh.positions.min(axis=0)))
+    reach = mesh_size(mesh.positions)
     shortest = SHRUNK_CHART_SHARE if mesh.stray.any() else 1.0
     if density is not None:
         return reach * density > shortest * LONG_CHART_TEXELS

@@ -344,11 +344,12 @@ def cut_long_charts(mesh, charts, max_length):
         piece_start = np.flatnonzero(np.r_[True, (chart_sorted[1:] != chart_sorted[:-1])
                                            | (slab_sorted[1:] != slab_sorted[:-1])])
         piece_chart = chart_sorted[piece_start]                                   # sorted: runs per chart
-        pieces_of_chart = np.diff(group_starts(piece_chart))
+        chart_start = group_starts(piece_chart)
+        pieces_of_chart = np.diff(chart_start)
         piece = np.empty(len(order), dtype=np.int64)
         piece[order] = np.repeat(index_in_runs(pieces_of_chart), np.diff(np.r_[piece_start, len(order)]))
         extra = np.zeros(len(chart_axis), dtype=np.int64)                         # (c,) new ids
-        extra[np.unique(piece_chart)] = pieces_of_chart - 1
+        extra[piece_chart[chart_start[:-1]]] = pieces_of_chart - 1
         base = len(chart_axis) + np.concatenate([[0], np.cumsum(extra)])[:-1]
         column[faces] = np.where(piece == 0, old, base[old] + piece - 1)
         chart_axis = np.concatenate([chart_axis, np.repeat(chart_axis, extra)])

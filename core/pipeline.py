@@ -132,7 +132,9 @@ class BakePipeline:
             seen = job.computed & ~job.buried
             # a texel the adaptive stop settled says nothing of its variance, unless its pilot was all its rays
             sampled = seen & ~(job.settled & (job.pilot_count < job.ray_count))
-            noise = noise_estimate(ao[sampled], job.ray_count[sampled], _sampled_neighbours(layout, sampled))
+            one_ray = (job.ray_count[sampled] < 2).any()         # texels side by side serve only one-ray ones
+            noise = noise_estimate(ao[sampled], job.ray_count[sampled], layout.texels.next_in_row(
+                layout.atlas.member_chart[layout.texels.member], sampled) if one_ray else None)
             if settings.denoise:
                 yield 0.95, "Denoising"
                 start = time.perf_counter()
@@ -157,15 +159,6 @@ class BakePipeline:
         for _ in self.steps():
             pass
         return self.result
-
-
-def _sampled_neighbours(layout, sampled):
-    """(k,) int64: for each of the k ``sampled`` texels ((n,) bool), the sampled texel right of it in its
-    chart, as an index among the sampled ones, or -1 (:func:`.ao.noise_estimate`'s ``neighbour``)."""
-    beside = layout.texels.next_in_row(layout.atlas.member_chart[layout.texels.member])
-    beside = np.where((beside >= 0) & sampled[np.maximum(beside, 0)], beside, -1)
-    position = np.cumsum(sampled) - 1
-    return np.where(beside >= 0, position[np.maximum(beside, 0)], -1)[sampled]
 
 
 def _free_each(casters):

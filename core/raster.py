@@ -68,11 +68,13 @@ class Texels:
     def __len__(self):
         return len(self.index)
 
-    def next_in_row(self, chart):
-        """(n,) int64: the texel right of each one when it holds the same ``chart`` ((n,) int), else -1."""
-        beside = np.flatnonzero((self.index[1:] == self.index[:-1] + 1) & (self.index[1:] % self.width != 0)
+    def next_in_row(self, chart, selection=slice(None)):
+        """(k,) int64: for each texel of ``selection`` (a slice or (n,) bool), the position within it of the
+        texel right of it when that one is selected too and holds the same ``chart`` ((n,) int), else -1."""
+        index, chart = self.index[selection], chart[selection]
+        beside = np.flatnonzero((index[1:] == index[:-1] + 1) & (index[1:] % self.width != 0)
                                 & (chart[1:] == chart[:-1]))
-        result = np.full(len(self.index), -1, dtype=np.int64)
+        result = np.full(len(index), -1, dtype=np.int64)
         result[beside] = beside + 1
         return result
 
