@@ -132,9 +132,8 @@ class BakePipeline:
             seen = job.computed & ~job.buried
             # a texel the adaptive stop settled says nothing of its variance, unless its pilot was all its rays
             sampled = seen & ~(job.settled & (job.pilot_count < job.ray_count))
-            one_ray = (job.ray_count[sampled] < 2).any()         # texels side by side serve only one-ray ones
             noise = noise_estimate(ao[sampled], job.ray_count[sampled], layout.texels.next_in_row(
-                layout.atlas.member_chart[layout.texels.member], sampled) if one_ray else None)
+                layout.atlas.member_chart[layout.texels.member], sampled))
             if settings.denoise:
                 yield 0.95, "Denoising"
                 start = time.perf_counter()

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from seamless_ao.core.ao import noise_estimate, occlusion_sums
+from seamless_ao.core.ao import MIN_SIDE_TRIPLES, noise_estimate, occlusion_sums
 from seamless_ao.core.job import point_ao
 from seamless_ao.core.rays import AOParams, BVHCaster
 from seamless_ao.core.sampling import cone_directions, random_samples, sobol_2d, texel_samples
@@ -250,6 +250,27 @@ def test_noise_estimate_with_one_ray_is_not_zero():
     mixed = np.r_[rng.binomial(1, np.full(20000, 0.9)), rng.binomial(16, np.full(20000, 0.9)) / 16]
     rays = np.r_[np.ones(20000), np.full(20000, 16)]
     assert noise_estimate(mixed, rays) == pytest.approx(np.sqrt((0.09 + 0.09 / 16) / 2), rel=0.03)
+
+
+def test_noise_estimate_sees_stratified_rays_through_texels_side_by_side():
+    """Stratified rays err less than independent ones. Three texels in a row a, b, c differ by a - 2b + c,
+    whose mean square is six times their variance whatever straight gradient the AO has, so the estimate
+    follows the actual error; where the AO itself changes from texel to texel that reads high, and each
+    texel's own rays give the figure."""
+    rng = np.random.default_rng(6)
+    rows, width, rays = 400, 100, 16
+    neighbour = np.arange(1, rows * width + 1)
+    neighbour[width - 1::width] = -1                                   # the last texel of each row
+    error = rng.normal(0.0, 0.03, rows * width)                        # about a third of independent rays'
+    actual = np.sqrt(np.mean(error**2))
+    smooth = np.tile(np.linspace(0.3, 0.9, width), rows) + error       # a gradient along every row
+    assert noise_estimate(smooth, rays) > 2.5 * actual
+    assert noise_estimate(smooth, rays, neighbour) == pytest.approx(actual, rel=0.05)
+    rough = rng.uniform(0.3, 0.9, rows * width) + error                # AO that changes from texel to texel
+    assert noise_estimate(rough, rays, neighbour) == noise_estimate(rough, rays)
+    few = np.full(rows * width, -1)
+    few[:MIN_SIDE_TRIPLES - 1] = np.arange(1, MIN_SIDE_TRIPLES)        # one run, too short to go by
+    assert noise_estimate(smooth, rays, few) == noise_estimate(smooth, rays)
 
 
 CEILING = [(-BIG, -BIG, 1.0), (-BIG, BIG, 1.0), (BIG, BIG, 1.0), (BIG, -BIG, 1.0)]    # z = 1, facing down
