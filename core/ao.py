@@ -217,13 +217,13 @@ def noise_estimate(ao, rays, neighbour=None):
       a value in [0, 1], so for a texel whose AO is ``m`` the variance of one
       ray is at most m (1 - m) and ``rays`` rays divide it by ``rays``; the
       estimate m̂ (1 - m̂) · n / (n - 1) is unbiased for m (1 - m) with binary
-      rays.  Stratified (Sobol') rays do much better from 2 rays up (the
-      pipeline test's ring on a floor: over 1.6 times at 16 rays).  One ray
-      says nothing of its own texel's variance (m̂ (1 - m̂) is 0 for a binary
-      ray), so texels with one ray share a pooled one: half the mean squared difference between
-      ``neighbour`` pairs of one-ray texels, or, without such pairs,
-      M (1 - M) of their mean M (at least the mean of their m (1 - m): it is
-      concave).
+      rays.  Stratified (Sobol') rays do much better from 2 rays up: on the
+      pipeline test's ring on a floor at 16 rays this figure is over 1.6
+      times the truth.  One ray says nothing of its own texel's variance
+      (m̂ (1 - m̂) is 0 for a binary ray), so texels with one ray share a
+      pooled one: half the mean squared difference between ``neighbour``
+      pairs of one-ray texels, or, without such pairs, M (1 - M) of their
+      mean M (at least the mean of their m (1 - m): it is concave).
     * Texels side by side (with ``neighbour``, from :data:`MIN_SIDE_TRIPLES`
       runs of three): the mean square of a - 2b + c over runs a, b, c of
       texels is six times their variance when their rays are independent of
