@@ -255,23 +255,21 @@ def noise_estimate(ao, rays, neighbour=None):
         return 0.0
     variance = ao * (1.0 - ao) * rays / np.maximum(rays - 1.0, 1.0)
     one = rays < 2
-    if neighbour is not None:
+    if neighbour is not None:                                   # texels side by side: (p,) pairs
         neighbour = np.asarray(neighbour)
+        first = np.flatnonzero(neighbour >= 0)
+        second = neighbour[first]
     if one.any():
         pooled = ao[one].mean()
         pooled = pooled * (1.0 - pooled)
         if neighbour is not None:
-            first = np.flatnonzero(one & (neighbour >= 0))
-            second = neighbour[first]
-            first, second = first[one[second]], second[one[second]]
-            if len(first):
-                pooled = 0.5 * float(np.mean((ao[first] - ao[second]) ** 2))
+            both = one[first] & one[second]
+            if both.any():
+                pooled = 0.5 * float(np.mean((ao[first[both]] - ao[second[both]]) ** 2))
         variance[one] = pooled
     own = float(np.sqrt((variance / rays).mean()))
     if neighbour is None:
         return own
-    first = np.flatnonzero(neighbour >= 0)
-    second = neighbour[first]
     in_a_run = neighbour[second] >= 0
     if in_a_run.sum() < MIN_SIDE_TRIPLES:
         return own
