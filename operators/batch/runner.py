@@ -47,11 +47,24 @@ def worker_command(job_path):
     return [sys.executable, str(LAUNCHER), "worker", job_path]
 
 
-def worker_environment():
-    """The worker's environment: this process's, plus its ``sys.path`` folders (where Blender keeps the
-    extension's wheels), which :mod:`..standalone.launch` adds to the worker's."""
+#: Environment variables through which Blender would find the user's own folders (preferences, startup file,
+#: scripts, extensions); a worker gets none of them.
+USER_FOLDER_VARIABLES = ("BLENDER_USER_RESOURCES", "BLENDER_USER_CONFIG", "BLENDER_USER_SCRIPTS",
+                         "BLENDER_USER_DATAFILES", "BLENDER_USER_EXTENSIONS")
+
+
+def worker_environment(scratch):
+    """The worker's environment: this process's, with Blender's user folders moved to ``scratch`` and this
+    process's ``sys.path`` folders (where Blender keeps the extension's wheels) in ``SEAMLESS_AO_PATHS``, which
+    :mod:`..standalone.launch` adds to the worker's.
+
+    A worker has factory settings, in which no extension is enabled; were the user's extension folder its
+    own, Blender's wheel upkeep (run by any factory reset) would delete the wheels of every extension it
+    sees disabled there, this one's among them, from under the user's Blender and the other workers."""
+    environment = {name: value for name, value in os.environ.items() if name not in USER_FOLDER_VARIABLES}
     paths = [p for p in sys.path if p and os.path.isdir(p)]
-    return dict(os.environ, SEAMLESS_AO_PATHS=os.pathsep.join(paths))
+    return dict(environment, BLENDER_USER_RESOURCES=os.path.join(scratch, "blender_user"),
+                SEAMLESS_AO_PATHS=os.pathsep.join(paths))
 
 
 def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, uv_policy="auto",
@@ -192,7 +205,7 @@ def _run_workers(queue, outputs, job_options, jobs, scratch, timeout=None):
             log_path = os.path.join(scratch, "log{}.txt".format(number))
             with open(log_path, "w", encoding="utf-8") as log:
                 process = subprocess.Popen(worker_command(job_path), stdout=log, stderr=subprocess.STDOUT,
-                                           stdin=subprocess.DEVNULL, env=worker_environment())
+                                           stdin=subprocess.DEVNULL, env=worker_environment(scratch))
             running.append((process, job, log_path, time.perf_counter()))
         time.sleep(0.05)
         for entry in list(running):
