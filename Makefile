@@ -2,8 +2,9 @@
 #
 #   make demo        set up .venv/5.0 and bake the built-in demo scene into out/
 #   make batch ARGS="assets/ --output-dir baked/"   bake a folder of assets (README, Pipelines)
-#   make test        run the test suite on Blender 5.0, 4.2 LTS and 5.2 (bpy wheels)
-#   make test BLENDERS=5.0       ... on one Blender only
+#   make test        run the test suite on Blender 5.0, 4.2 LTS and 5.2 (bpy wheels), then make test-real
+#   make test BLENDERS=5.0       ... on one Blender only (and test-real)
+#   make test-real   the tests that run a real blender binary (Debian's, in a root built once; needs root)
 #   make test-fast   only tests/core (numpy + mathutils, no Blender data) on Blender 5.0
 #   make bench       every benchmark, each writing its page into docs/bench/; then docs/benchmarks.md
 #   make docs        docs/settings.md, docs/constants.md, docs/tested.md, read off the code
@@ -36,10 +37,10 @@ WHEELHOUSE ?= $(shell python3 -m pip cache dir 2>/dev/null || echo $(HOME)/.cach
 venv_dir = .venv/$(1)
 venv_python = .venv/$(1)/bin/python
 
-.PHONY: help setup demo batch test test-fast test-one docs bench extension validate clean
+.PHONY: help setup demo batch test test-fast test-one test-real docs bench extension validate clean
 
 help:
-	@sed -n '3,9p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '3,10p' Makefile | sed 's/^# \{0,1\}//'
 
 # .venv/<version>/.installed is rebuilt when the pins change.
 .venv/%/.installed: requirements/blender-%.txt
@@ -72,11 +73,25 @@ test:
 	$(foreach v,$(MISSING),echo "== Blender $(v): skipped: its bpy wheel needs Python $(PYVER_$(v)), which was not found (on PATH or in pyenv)" >&2;) \
 	if [ -n "$$missing" ] && [ -n "$${CI:-}" ]; then echo "error: CI tests every Blender of BLENDERS ($(BLENDERS)); install the missing Python" >&2; exit 1; fi; \
 	for v in $$available; do $(MAKE) --no-print-directory test-one BLENDER=$$v; done; \
+	$(MAKE) --no-print-directory test-real; \
 	if [ -n "$$missing" ]; then echo "== Tested Blender $${available:-none}; skipped $$missing (no Python for it here)"; fi
 
 test-one: .venv/$(BLENDER)/.installed wheels/.downloaded .node/.installed
 	@echo "== Blender $(BLENDER): pytest"
-	$(call venv_python,$(BLENDER)) -m pytest tests $(PYTEST_ARGS)
+	$(call venv_python,$(BLENDER)) -m pytest tests --ignore=tests/real_blender $(PYTEST_ARGS)
+
+# A real Blender binary: Debian's (trixie: 4.3.2) in a root built once per machine outside the repository
+# (tests/scripts/make_blender_root.sh; needs root and debootstrap, which it installs with apt-get). Where the
+# machine cannot build it, the tests are skipped with its sentence; under CI that is an error.
+BLENDER_ROOT ?= $(HOME)/.cache/seamless-ao-blender-root
+
+test-real: .venv/5.0/.installed wheels/.downloaded .node/.installed
+	@status=0; bash tests/scripts/make_blender_root.sh "$(BLENDER_ROOT)" || status=$$?; \
+	if [ $$status -eq 3 ] && [ -n "$${CI:-}" ]; then echo "error: CI runs the real-Blender tests, and the root cannot be built here" >&2; exit 1; fi; \
+	if [ $$status -eq 3 ]; then echo "== real Blender: skipped (the root cannot be built here)"; exit 0; fi; \
+	if [ $$status -ne 0 ]; then echo "error: building the real-Blender root in $(BLENDER_ROOT) failed" >&2; exit 1; fi; \
+	echo "== real Blender ($(BLENDER_ROOT)): pytest"; \
+	SEAMLESS_AO_BLENDER_ROOT="$(BLENDER_ROOT)" $(call venv_python,5.0) -m pytest tests/real_blender $(PYTEST_ARGS)
 
 # The Khronos glTF validator (npm), pinned by requirements/gltf-validator/package-lock.json; the tests run it
 # on every GLB they write.

@@ -3,7 +3,6 @@
 import json
 import pathlib
 import re
-import subprocess
 import sys
 import tomllib
 import zipfile
@@ -11,19 +10,8 @@ import zipfile
 import bpy
 import pytest
 
+from extension_zip import build_zips, run_tool
 from package import ROOT, run_script, seamless_ao
-
-
-def blender_ext_tool():
-    scripts = pathlib.Path(bpy.utils.system_resource("SCRIPTS"))
-    tool = scripts / "addons_core" / "bl_pkg" / "cli" / "blender_ext.py"
-    assert tool.is_file(), "blender_ext.py not found in the bpy wheel at {}".format(tool)
-    return tool
-
-
-def run_tool(*args):
-    return subprocess.run(
-        [sys.executable, str(blender_ext_tool()), *args], cwd=ROOT, capture_output=True, text=True, timeout=300)
 
 
 def manifest():
@@ -63,12 +51,9 @@ def test_wheels_listed_are_downloaded():
 
 @pytest.fixture(scope="module")
 def built_zip(tmp_path_factory):
-    out = tmp_path_factory.mktemp("dist")
-    proc = run_tool("build", "--source-dir", str(ROOT), "--output-dir", str(out), "--split-platforms")
-    assert proc.returncode == 0, proc.stdout + proc.stderr
-    zips = sorted(out.glob("*.zip"))
+    zips = build_zips(tmp_path_factory.mktemp("dist"))
     assert len(zips) == 3, zips
-    return next(z for z in zips if "linux" in z.name)
+    return zips["linux_x64"]
 
 
 def test_zip_contains_the_package_and_not_the_tests(built_zip):

@@ -2,7 +2,8 @@
 
     docs/settings.md    every bake and export setting: option, default, range, meaning (core/settings.py)
     docs/constants.md   every documented constant of core/ with its value (the tolerances, limits, margins)
-    docs/tested.md      which Blender, bpy, Python and numpy ``make test`` runs, and which tests run where
+    docs/tested.md      which Blender, bpy, Python and numpy ``make test`` runs, which tests run where, and what
+                        the real Blender binary runs
 
     .venv/5.0/bin/python tests/scripts/write_docs.py [--check]
 
@@ -165,6 +166,27 @@ def test_limits():
     return rows
 
 
+def real_blender_section():
+    """What ``make test-real`` runs with the real Blender binary (``tests/real_blender``)."""
+    import real_blender
+    folder = ROOT / "tests" / "real_blender"
+    tests = [(path.name, name) for path in sorted(folder.glob("test_*.py"))
+             for name in re.findall(r"^def (test_\w+)", path.read_text(), re.M)]
+    suites = re.findall(r'"(tests/[\w/]+\.py)"', (folder / "test_suite_in_blender.py").read_text())
+    return ["## The real Blender binary", "",
+            "`make test` then runs `tests/real_blender` once (`make test-real`) with a real `blender` binary: "
+            "Debian trixie's Blender {} (Python {}, Debian's numpy), in a root that "
+            "`tests/scripts/make_blender_root.sh` builds once per machine outside the repository (it needs root "
+            "and debootstrap; where the machine cannot build it the tests are skipped with its sentence, and under "
+            "CI that is an error). The extension is installed from its zip with Blender's own "
+            "`extension install-file`; every headless command of the README, `docs/usage.md` and "
+            "`docs/pipelines.md` is read from those pages and run as written.".format(
+                real_blender.BLENDER_VERSION, real_blender.BLENDER_PYTHON), "",
+            *["- `real_blender/{}`: `{}`".format(where, name) for where, name in tests], "",
+            "Inside that Blender (`tests/run.py`), with its own worker processes: " +
+            ", ".join("`{}`".format(suite) for suite in suites) + "."]
+
+
 def tested_page():
     from marks import HEAVY_BLENDER
     makefile = (ROOT / "Makefile").read_text()
@@ -187,6 +209,7 @@ def tested_page():
     lines += ["- `{}`: `{}`".format(where, name) for where, name in heavy] or ["- none"]
     lines += ["", "Tests that skip, with the reason pytest reports, where the machine cannot run them:", ""]
     lines += ["- `{}`: `{}` ({})".format(where, name, why) for where, name, why in may_skip] or ["- none"]
+    lines += ["", *real_blender_section()]
     lines += ["", "Limits the tests hold:", "", *test_limits()]
     lines += ["", "CI (`.ci/run`) runs `make test` on a clean clone; there a Blender whose Python is missing fails "
               "the run, where on a workstation it is skipped with a message.", ""]
