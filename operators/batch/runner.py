@@ -12,20 +12,17 @@ from its own folder and never run anything an asset carries.
 import dataclasses
 import json
 import os
-import pathlib
 import subprocess
 import sys
 import tempfile
 import time
 
-import bpy
-
 from ...core.assets import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
                             remove_partial_output, settings_digest, write_stamp)
 from ...core.errors import SeamlessAOError
 from ...core.settings import DOMAIN_ITEMS, BakeSettings, ExportSettings
+from ..adapters.processes import process_command, process_environment
 
-PACKAGE_ROOT = pathlib.Path(__file__).resolve().parents[2]
 REPORT_VERSION = 1
 #: Which UV map a glTF's AO rides on (see :func:`batch`).
 UV_POLICIES = ("auto", "own", "new")
@@ -33,38 +30,9 @@ EXPORT_DEFAULTS = ExportSettings()
 #: Where a batch's defaults differ from a bake's: the pieces of an asset occlude each other.
 BATCH_DEFAULTS = {"use_scene_occluders": True}
 
-#: What a worker process runs: this package loaded from its folder under a name of its own (so an installed
-#: copy is never registered twice), then :func:`.worker.main` on the job file.
-LAUNCHER = PACKAGE_ROOT / "operators" / "standalone" / "launch.py"
-
-
 def worker_command(job_path):
-    """The command line of one worker: background Blender, or this Python when ``bpy`` is the module."""
-    binary = bpy.app.binary_path
-    if binary and not os.path.basename(binary).startswith("python"):
-        return [binary, "--background", "--factory-startup", "--disable-autoexec", "--python", str(LAUNCHER),
-                "--", "worker", job_path]
-    return [sys.executable, str(LAUNCHER), "worker", job_path]
-
-
-#: Environment variables through which Blender would find the user's own folders (preferences, startup file,
-#: scripts, extensions); a worker gets none of them.
-USER_FOLDER_VARIABLES = ("BLENDER_USER_RESOURCES", "BLENDER_USER_CONFIG", "BLENDER_USER_SCRIPTS",
-                         "BLENDER_USER_DATAFILES", "BLENDER_USER_EXTENSIONS")
-
-
-def worker_environment(scratch):
-    """The worker's environment: this process's, with Blender's user folders moved to ``scratch`` and this
-    process's ``sys.path`` folders (where Blender keeps the extension's wheels) in ``SEAMLESS_AO_PATHS``, which
-    :mod:`..standalone.launch` adds to the worker's.
-
-    A worker has factory settings, in which no extension is enabled; were the user's extension folder its
-    own, Blender's wheel upkeep (run by any factory reset) would delete the wheels of every extension it
-    sees disabled there, this one's among them, from under the user's Blender and the other workers."""
-    environment = {name: value for name, value in os.environ.items() if name not in USER_FOLDER_VARIABLES}
-    paths = [p for p in sys.path if p and os.path.isdir(p)]
-    return dict(environment, BLENDER_USER_RESOURCES=os.path.join(scratch, "blender_user"),
-                SEAMLESS_AO_PATHS=os.pathsep.join(paths))
+    """The command line of one worker (:func:`..adapters.processes.process_command`)."""
+    return process_command("worker", job_path)
 
 
 def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, uv_policy="auto",
@@ -205,7 +173,7 @@ def _run_workers(queue, outputs, job_options, jobs, scratch, timeout=None):
             log_path = os.path.join(scratch, "log{}.txt".format(number))
             with open(log_path, "w", encoding="utf-8") as log:
                 process = subprocess.Popen(worker_command(job_path), stdout=log, stderr=subprocess.STDOUT,
-                                           stdin=subprocess.DEVNULL, env=worker_environment(scratch))
+                                           stdin=subprocess.DEVNULL, env=process_environment(scratch))
             running.append((process, job, log_path, time.perf_counter()))
         time.sleep(0.05)
         for entry in list(running):

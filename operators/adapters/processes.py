@@ -1,0 +1,45 @@
+"""Processes of Seamless AO's own: a background Blender (or, under the ``bpy`` module, the same Python) that
+runs this package from its folder, for the batch's workers and for the window's background bake.
+
+    subprocess.Popen(process_command("worker", job_path), env=process_environment(scratch), ...)
+"""
+
+import os
+import pathlib
+import sys
+
+import bpy
+
+PACKAGE_ROOT = pathlib.Path(__file__).resolve().parents[2]
+#: What such a process runs: this package loaded from its folder under a name of its own (so an installed
+#: copy is never registered twice), then the entry point named first in its arguments.
+LAUNCHER = PACKAGE_ROOT / "operators" / "standalone" / "launch.py"
+
+#: Environment variables through which Blender would find the user's own folders (preferences, startup file,
+#: scripts, extensions); a process of ours gets none of them.
+USER_FOLDER_VARIABLES = ("BLENDER_USER_RESOURCES", "BLENDER_USER_CONFIG", "BLENDER_USER_SCRIPTS",
+                         "BLENDER_USER_DATAFILES", "BLENDER_USER_EXTENSIONS")
+
+
+def process_command(*arguments):
+    """The command line that runs :mod:`..standalone.launch` with ``arguments``: background Blender with
+    factory settings and no auto-run scripts, or this Python when ``bpy`` is the module."""
+    binary = bpy.app.binary_path
+    if binary and not os.path.basename(binary).startswith("python"):
+        return [binary, "--background", "--factory-startup", "--disable-autoexec", "--python", str(LAUNCHER),
+                "--", *map(str, arguments)]
+    return [sys.executable, str(LAUNCHER), *map(str, arguments)]
+
+
+def process_environment(scratch):
+    """The process's environment: this process's, with Blender's user folders moved to ``scratch`` and this
+    process's ``sys.path`` folders (where Blender keeps the extension's wheels) in ``SEAMLESS_AO_PATHS``, which
+    :mod:`..standalone.launch` adds to the process's.
+
+    The process has factory settings, in which no extension is enabled; were the user's extension folder its
+    own, Blender's wheel upkeep (run by any factory reset) would delete the wheels of every extension it
+    sees disabled there, this one's among them, from under the user's Blender and the other processes."""
+    environment = {name: value for name, value in os.environ.items() if name not in USER_FOLDER_VARIABLES}
+    paths = [p for p in sys.path if p and os.path.isdir(p)]
+    return dict(environment, BLENDER_USER_RESOURCES=os.path.join(scratch, "blender_user"),
+                SEAMLESS_AO_PATHS=os.pathsep.join(paths))
