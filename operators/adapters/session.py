@@ -21,10 +21,12 @@ import bpy
 import numpy as np
 
 from ...core.errors import BakeCancelled, SeamlessAOError
+from ...core.handoff import outcome_numbers
 from ...core.keys import IMAGE_KEY
 from ...core.pipeline import BakePipeline
 from ...core.rays import world_reach
 from ...core.settings import BakeSettings
+from ..background.client import BackgroundBake
 from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
 from .mesh_data import Topology, read_object, render_evaluation, scene_occluders, world_boxes
@@ -81,6 +83,11 @@ class BakeReport:
             text += "; handled: " + ", ".join(self.mesh_problems)
         return text
 
+    def headline(self):
+        """One short sentence for the status bar (the details are in :meth:`summary`)."""
+        what = self.objects[0] if len(self.objects) == 1 else "{} objects".format(len(self.objects))
+        return "Seamless AO baked {} in {:.1f} s".format(what, self.seconds)
+
 
 class BakeSession:
     """One bake, step by step.
@@ -91,43 +98,57 @@ class BakeSession:
     the :class:`BakeReport`.
     """
 
-    def __init__(self, objects, settings, scene=None):
+    def __init__(self, objects, settings, scene=None, background=False):
         self.objects = list(objects)
         self.settings = settings
         self.scene = scene or bpy.context.scene
+        self.background = background
         self.pipeline = None
+        self.process = None
         self.report = None
         self.started = time.perf_counter()
         bpy.context.evaluated_depsgraph_get()          # transforms set by a script are evaluated before the checks
         check_objects(self.objects, settings)
 
     def steps(self):
-        """Read, then core's pipeline step by step, then write; yields ``(fraction, message)``."""
+        """Read, then core's pipeline step by step (here, or in a background process), then write; yields
+        ``(fraction, message)``."""
         try:
             yield 0.0, "Reading meshes"
             meshes, self.baked, occluders = self._read_meshes()
-            # Each part's occluders were read and culled to its ray reach in _read_meshes (the depsgraph is
-            # only at hand there), so the pipeline's (low, high, reach) arguments are not needed again.
-            self.pipeline = BakePipeline(meshes, [b.matrix for b in self.baked], self.settings,
-                                         caster_maker(self.settings), lambda part, *_: occluders[part],
-                                         free_casters)
-            yield from self.pipeline.steps()
-            result = self.pipeline.result
+            if self.background:
+                outcome = yield from self._steps_in_background(meshes, occluders)
+                numbers = outcome.numbers
+            else:
+                # Each part's occluders were read and culled to its ray reach in _read_meshes (the depsgraph is
+                # only at hand there), so the pipeline's (low, high, reach) arguments are not needed again.
+                self.pipeline = BakePipeline(meshes, [b.matrix for b in self.baked], self.settings,
+                                             caster_maker(self.settings), lambda part, *_: occluders[part],
+                                             free_casters)
+                yield from self.pipeline.steps()
+                outcome = self.pipeline.result
+                numbers = outcome_numbers(outcome)
             yield 0.96, "Writing image, UV maps and materials"
             check_unchanged(self.objects, self.fingerprints)
-            warnings = result.warnings + self._write(result)
-            layout = result.layout
+            warnings = numbers["warnings"] + self._write(outcome)
             self.report = BakeReport(
-                objects=[ob.name for ob in self.objects], image=self.image_name, width=layout.atlas.width,
-                height=layout.atlas.height, texels=result.texels, rays=result.rays,
-                utilisation=layout.atlas.utilisation, density=layout.atlas.density, charts=layout.charts.count,
-                seconds=time.perf_counter() - self.started, timings=result.timings,
-                mesh_problems=layout.topology.report.problems(), warnings=warnings,
-                caster=result.caster, noise=result.noise)
+                objects=[ob.name for ob in self.objects], image=self.image_name, width=numbers["width"],
+                height=numbers["height"], texels=numbers["texels"], rays=numbers["rays"],
+                utilisation=numbers["utilisation"], density=numbers["density"], charts=numbers["charts"],
+                seconds=time.perf_counter() - self.started, timings=numbers["timings"],
+                mesh_problems=numbers["mesh_problems"], warnings=warnings, caster=numbers["caster"],
+                noise=numbers["noise"])
             store_stats(self.scene, self.report)
             yield 1.0, "Done"
         finally:
             self.cancel()
+
+    def _steps_in_background(self, meshes, occluders):
+        """The pipeline in a process of its own (:mod:`..background.client`); returns its outcome."""
+        self.process = BackgroundBake(meshes, [b.matrix for b in self.baked], occluders, self.settings)
+        while (state := self.process.poll()) is not None:
+            yield state
+        return self.process.outcome()
 
     def run(self, should_cancel=None, progress=None):
         """All steps at once; returns the report (raises :class:`BakeCancelled` if asked to stop)."""
@@ -143,9 +164,12 @@ class BakeSession:
         return self.report
 
     def cancel(self):
-        """Free the casters (the pipeline's clean-up; nothing is written before the last step)."""
+        """Free the casters (the pipeline's clean-up; nothing is written before the last step), or end the
+        background process and remove its files."""
         if self.pipeline is not None:
             self.pipeline.free()
+        if self.process is not None:
+            self.process.close()
 
     # -- reading ---------------------------------------------------------------
 

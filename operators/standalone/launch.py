@@ -3,6 +3,7 @@
     python operators/standalone/launch.py command [FILE.blend] ARGS...   # = blender -b [FILE] --command seamless_ao ARGS
     python operators/standalone/launch.py demo [--output-dir out] ...    # make demo
     python operators/standalone/launch.py worker JOB.json                # one batch worker (operators/batch/)
+    python operators/standalone/launch.py bake-worker FOLDER             # a window's bake (operators/background/)
     blender --background --factory-startup --python operators/standalone/launch.py -- worker JOB.json
 
 ``python`` is one with the ``bpy`` module (the virtualenvs of ``make``), or
@@ -26,7 +27,7 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 NAME = "seamless_ao_standalone"
 ENTRY_POINTS = {"command": "operators.standalone.command", "demo": "operators.standalone.demo",
-                "worker": "operators.batch.worker"}
+                "worker": "operators.batch.worker", "bake-worker": "operators.background.bake_worker"}
 
 
 def load_package(name=NAME):

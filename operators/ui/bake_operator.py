@@ -1,8 +1,11 @@
 """``object.seamless_ao_bake``: bake Seamless AO for the selected meshes.
 
-From the UI it runs modal on a timer: one step of work per ``TIMER`` event, a
-progress bar and a status line, ESC cancels and leaves everything as it was.
-From a script or in ``--background`` it runs to completion synchronously.
+From the UI it runs modal on a timer: the meshes are read, the bake itself runs
+in a background process of ours (:mod:`..background.client`) while each
+``TIMER`` event reads its progress into the progress bar and the status line,
+and the outcome is written at the end; ESC ends the process and leaves
+everything as it was.  From a script or in ``--background`` it runs to
+completion synchronously, in this process.
 """
 
 import traceback
@@ -21,7 +24,8 @@ class OBJECT_OT_seamless_ao_bake(bpy.types.Operator):
 
     bl_idname = "object.seamless_ao_bake"
     bl_label = "Bake Seamless AO"
-    bl_options = {"REGISTER", "UNDO"}
+    # Undo, but no redo panel: Adjust Last Operation would re-run the whole bake at once, frozen.
+    bl_options = {"UNDO"}
 
     __annotations__ = setting_annotations()
 
@@ -29,9 +33,9 @@ class OBJECT_OT_seamless_ao_bake(bpy.types.Operator):
     def poll(cls, context):
         return poll_explained(cls, selection_problem(context))
 
-    def _session(self, context):
+    def _session(self, context, background=False):
         settings = settings_from(context.scene.seamless_ao, overrides=self)
-        return BakeSession(target_objects(context), settings, scene=context.scene)
+        return BakeSession(target_objects(context), settings, scene=context.scene, background=background)
 
     def execute(self, context):
         try:
@@ -53,11 +57,12 @@ class OBJECT_OT_seamless_ao_bake(bpy.types.Operator):
         if bpy.app.background or context.window is None:
             return self.execute(context)
         try:
-            self.session = self._session(context)
+            self.session = self._session(context, background=True)     # the window stays live meanwhile
         except SeamlessAOError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
         self.steps = self.session.steps()
+        self.shown = None
         window_manager = context.window_manager
         window_manager.progress_begin(0, 100)
         self.timer = window_manager.event_timer_add(0.02, window=context.window)
@@ -85,8 +90,11 @@ class OBJECT_OT_seamless_ao_bake(bpy.types.Operator):
             self.cancel(context)
             self.report({"ERROR"}, "Seamless AO failed unexpectedly ({}); nothing was changed".format(error))
             return {"CANCELLED"}
-        context.window_manager.progress_update(int(100 * fraction))
-        self._status(context, "Seamless AO: {} (Esc to cancel; editing a baked object also cancels)".format(message))
+        shown = (int(100 * fraction), message)
+        if shown != self.shown:                         # the window redraws for each change: only for a change
+            self.shown = shown
+            context.window_manager.progress_update(shown[0])
+            self._status(context, "Seamless AO: {} (Esc to cancel)".format(message))
         if fraction >= 1.0 and self.session.report is not None:
             self._end(context)
             self._finish_report(self.session.report)
@@ -112,6 +120,7 @@ class OBJECT_OT_seamless_ao_bake(bpy.types.Operator):
             context.workspace.status_text_set(text)
 
     def _finish_report(self, report):
-        self.report({"INFO"}, report.summary())
+        print(report.summary())                         # the details: the console; the panel's Last bake box
+        self.report({"INFO"}, report.headline())
         for warning in report.warnings:
             self.report({"WARNING"}, warning)

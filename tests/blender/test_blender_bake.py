@@ -293,8 +293,10 @@ def test_scene_occluders_take_only_objects_within_the_ray_distance(addon, fresh_
 def test_every_operator_that_writes_is_one_undo_step(addon):
     """Issue 16, item 7, as far as the bpy module goes: its ``ed.undo`` cannot run without a window
     (its poll fails in background), so what is tested is that each writing operator asks Blender for
-    an undo step (README: *Undo*)."""
+    an undo step (README: *Undo*); the GUI tests undo a bake in a real window.  The bake offers no redo
+    panel (issue 51: it would re-run the whole bake frozen): it asks for undo without REGISTER."""
     for name in ("seamless_ao_bake", "seamless_ao_clear", "seamless_ao_resample", "seamless_ao_to_color"):
         operator = getattr(bpy.types, "OBJECT_OT_" + name)
-        assert {"REGISTER", "UNDO"} <= set(operator.bl_options), name
+        assert "UNDO" in operator.bl_options, name
+        assert ("REGISTER" in operator.bl_options) == (name != "seamless_ao_bake"), name
     assert not bpy.ops.ed.undo.poll()               # if a later bpy can undo headless, test it for real

@@ -1,0 +1,160 @@
+"""A bake handed to another process and its result handed back, as files in one folder.
+
+    write_job(folder, meshes, matrices, occluders, settings)        # the window's Blender
+    meshes, matrices, occluders, settings = read_job(folder)          # the background process ...
+    write_progress(folder, 0.4, "Casting rays: 31%")                  # ... while it bakes
+    write_outcome(folder, pipeline.result, len(meshes))               # ... or write_failure(folder, sentence)
+    outcome = read_outcome(folder)                                    # the window's Blender again
+
+Arrays go as ``.npy`` files (each input mesh's UVs one file per axis, read when that mesh is written, so
+a million-triangle bake never holds them all twice), numbers and sentences as JSON.  Progress is one
+line, replaced whole, so a reader never sees half of it.
+"""
+
+import dataclasses
+import json
+import os
+
+import numpy as np
+
+from .mesh import TriangleMesh
+from .settings import BakeSettings
+
+JOB = "job.json"
+PROGRESS = "progress.txt"
+OUTCOME = "outcome.json"
+FAILURE = "failure.json"
+MESH_ARRAYS = ("positions", "triangles", "triangle_face", "corner_normals")
+
+
+def _save(folder, name, array):
+    np.save(os.path.join(folder, name + ".npy"), np.ascontiguousarray(array), allow_pickle=False)
+
+
+def _load(folder, name):
+    return np.load(os.path.join(folder, name + ".npy"), allow_pickle=False)
+
+
+def _write_json(folder, name, data):
+    path = os.path.join(folder, name)
+    with open(path + ".part", "w", encoding="utf-8") as handle:
+        json.dump(data, handle)
+    os.replace(path + ".part", path)
+
+
+def _read_json(folder, name):
+    with open(os.path.join(folder, name), encoding="utf-8") as handle:
+        return json.load(handle)
+
+
+def write_job(folder, meshes, matrices, occluders, settings):
+    """Write a bake's input.
+
+    Parameters
+    ----------
+    folder : str, an existing folder
+    meshes : list of TriangleMesh
+    matrices : list of (4, 4) float, world matrices
+    occluders : list (one per mesh) of lists of ``(positions (v, 3) float64, triangles (t, 3) int64)``,
+        world geometry near that mesh
+    settings : BakeSettings
+    """
+    for part, mesh in enumerate(meshes):
+        for name in MESH_ARRAYS:
+            _save(folder, "mesh{}_{}".format(part, name), getattr(mesh, name))
+        _save(folder, "matrix{}".format(part), np.asarray(matrices[part], dtype=np.float64))
+        for number, (positions, triangles) in enumerate(occluders[part]):
+            _save(folder, "occluder{}_{}_positions".format(part, number), positions)
+            _save(folder, "occluder{}_{}_triangles".format(part, number), triangles)
+    _write_json(folder, JOB, {"settings": dataclasses.asdict(settings), "face_counts": [m.face_count for m in meshes],
+                              "occluders": [len(near) for near in occluders]})
+
+
+def read_job(folder):
+    """``(meshes, matrices, occluders, settings)`` as :func:`write_job` was given them."""
+    job = _read_json(folder, JOB)
+    meshes, matrices, occluders = [], [], []
+    for part, face_count in enumerate(job["face_counts"]):
+        arrays = {name: _load(folder, "mesh{}_{}".format(part, name)) for name in MESH_ARRAYS}
+        mesh = TriangleMesh(face_count=face_count, **arrays)
+        mesh.corner_normals = arrays["corner_normals"]   # already sanitised: normalising again moves last bits
+        meshes.append(mesh)
+        matrices.append(_load(folder, "matrix{}".format(part)))
+        occluders.append([(_load(folder, "occluder{}_{}_positions".format(part, number)),
+                           _load(folder, "occluder{}_{}_triangles".format(part, number)))
+                          for number in range(job["occluders"][part])])
+    return meshes, matrices, occluders, BakeSettings.from_kwargs(**job["settings"])
+
+
+def write_progress(folder, fraction, message):
+    """Replace the progress line: ``fraction`` in [0, 1] and what is being done."""
+    path = os.path.join(folder, PROGRESS)
+    with open(path + ".part", "w", encoding="utf-8") as handle:
+        handle.write("{:.6f}\t{}".format(fraction, message))
+    os.replace(path + ".part", path)
+
+
+def read_progress(folder):
+    """``(fraction, message)`` of the last :func:`write_progress`, or None before the first."""
+    try:
+        with open(os.path.join(folder, PROGRESS), encoding="utf-8") as handle:
+            fraction, message = handle.read().split("\t", 1)
+    except (OSError, ValueError):
+        return None
+    return float(fraction), message
+
+
+def outcome_numbers(result):
+    """What the report says of a :class:`.pipeline.BakeResult`, as plain numbers and sentences."""
+    layout = result.layout
+    return {"texels": int(result.texels), "rays": int(result.rays), "noise": float(result.noise),
+            "caster": result.caster, "timings": {k: float(v) for k, v in result.timings.items()},
+            "warnings": list(result.warnings), "width": int(layout.atlas.width), "height": int(layout.atlas.height),
+            "utilisation": float(layout.atlas.utilisation), "density": float(layout.atlas.density),
+            "charts": int(layout.charts.count), "mesh_problems": list(layout.topology.report.problems())}
+
+
+def write_outcome(folder, result, part_count):
+    """Write what the window's Blender writes into Blender data: the image, each input mesh's UVs in
+    AO_X, AO_Y and AO_Z, and :func:`outcome_numbers`.  The JSON goes last: its presence means done."""
+    _save(folder, "image", result.image)
+    for part in range(part_count):
+        for axis, uv in enumerate(result.part_axis_uv(part)):
+            _save(folder, "uv{}_{}".format(part, axis), uv)
+    _write_json(folder, OUTCOME, outcome_numbers(result))
+
+
+@dataclasses.dataclass
+class HandedBack:
+    """A bake's outcome read back: ``image`` (h, w) float32, ``numbers`` (:func:`outcome_numbers`), and
+    :meth:`part_axis_uv` read from its files when asked."""
+
+    folder: str
+    image: np.ndarray
+    numbers: dict
+
+    def part_axis_uv(self, part):
+        """Input mesh ``part``'s triangles' UVs in AO_X, AO_Y and AO_Z: three (k, 3, 2) float64."""
+        return [_load(self.folder, "uv{}_{}".format(part, axis)) for axis in range(3)]
+
+
+def read_outcome(folder):
+    """The :class:`HandedBack` outcome, or None while it is not all written."""
+    if not os.path.exists(os.path.join(folder, OUTCOME)):
+        return None
+    return HandedBack(folder, _load(folder, "image"), _read_json(folder, OUTCOME))
+
+
+def write_failure(folder, sentence, expected=True):
+    """Say why the bake stopped: ``expected`` for the user's sentence (a refused mesh or setting), not for a
+    fault of ours (its traceback is in the process's log)."""
+    _write_json(folder, FAILURE, {"sentence": sentence, "expected": bool(expected)})
+
+
+def read_failure(folder):
+    """``(sentence, expected)`` of :func:`write_failure`, or None."""
+    try:
+        failure = _read_json(folder, FAILURE)
+    except (OSError, ValueError):
+        return None
+    return failure["sentence"], failure["expected"]
