@@ -5,6 +5,7 @@ import bpy
 from ..core.settings import CYCLES_NEEDS
 from ..operators.adapters.scene_settings import automatic_caster_line
 from ..operators.ui.poll import stale_bakes
+from .text import wrapped_labels
 
 #: Settings the Cycles ray caster cannot follow or does not use: drawn inactive while it is chosen.
 NOT_FOR_CYCLES = frozenset([need[0] for need in CYCLES_NEEDS] + ["adaptive"])
@@ -54,28 +55,29 @@ class VIEW3D_PT_seamless_ao(SidebarPanel, bpy.types.Panel):
         column.scale_y = 1.4
         column.operator("object.seamless_ao_bake", icon="RENDER_STILL")
         row = layout.row(align=True)
-        row.operator("object.seamless_ao_clear", icon="TRASH")
+        row.operator("object.seamless_ao_clear", text="Clear", icon="TRASH")
         row.prop(settings, "preview", toggle=True, icon="HIDE_OFF")
         stale = stale_bakes(context)
         if stale:
-            box = layout.box()
-            box.label(text="AO not shown on {}".format(", ".join(ob.name for ob in stale)), icon="ERROR")
-            box.label(text="The modifiers here give another surface than the one baked.")
-            box.label(text="Bake again (the render stack is what is baked).")
+            wrapped_labels(layout.box(), context, "AO not shown on {}: the modifiers give another surface than "
+                           "the one baked. Bake again.".format(", ".join(ob.name for ob in stale)), icon="ERROR",
+                           in_box=True)
         if settings.last_bake_summary:
             box = layout.box()
             box.label(text="Last bake", icon="INFO")
-            grid = box.grid_flow(columns=2, even_columns=True)
-            grid.label(text="Time")
-            grid.label(text="{:.1f} s".format(settings.last_bake_time))
-            grid.label(text="Texels")
-            grid.label(text="{:,}".format(settings.last_bake_texels))
-            grid.label(text="Rays")
-            grid.label(text="{:,.0f}".format(settings.last_bake_rays))
-            grid.label(text="Atlas use")
-            grid.label(text="{:.0%}".format(settings.last_bake_utilisation))
-            grid.label(text="Noise (raw, 1σ)")
-            grid.label(text="≈ {:.3f}".format(settings.last_bake_noise))
+            for name, value in last_bake_rows(settings):
+                row = box.row()
+                row.label(text=name)
+                row.label(text=value)
+
+
+def last_bake_rows(settings):
+    """``[(label, value)]`` of the Last bake box, each pair drawn on one row."""
+    return [("Time", "{:.1f} s".format(settings.last_bake_time)),
+            ("Texels", "{:,}".format(settings.last_bake_texels)),
+            ("Rays", "{:,.0f}".format(settings.last_bake_rays)),
+            ("Atlas use", "{:.0%}".format(settings.last_bake_utilisation)),
+            ("Noise (raw, 1σ)", "≈ {:.3f}".format(settings.last_bake_noise))]
 
 
 class VIEW3D_PT_seamless_ao_rays(SubPanel, bpy.types.Panel):
@@ -101,7 +103,7 @@ class VIEW3D_PT_seamless_ao_occluders(SubPanel, bpy.types.Panel):
         super().draw(context)
         line = automatic_caster_line(context.scene.seamless_ao)
         if line:
-            self.layout.label(text=line, icon="INFO")
+            wrapped_labels(self.layout, context, line, icon="INFO")
 
 
 class VIEW3D_PT_seamless_ao_image(SubPanel, bpy.types.Panel):

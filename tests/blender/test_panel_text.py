@@ -1,0 +1,34 @@
+"""Issue 51: no sentence of the sidebar is cut off ("The modifiers here ...than the one baked."), and the
+Last bake box pairs each label with its value."""
+
+import blf
+import bpy
+
+from package import seamless_ao
+
+from seamless_ao.panels.sidebar import last_bake_rows
+from seamless_ao.panels.text import wrap_words
+
+SENTENCE = ("AO not shown on Suzanne, Suzanne.001: the modifiers give another surface than the one baked. "
+            "Bake again.")
+
+
+def test_wrapped_lines_fit_and_keep_every_word():
+    blf.size(0, 11)
+    for width in (120, 180, 240, 400):
+        lines = wrap_words(SENTENCE, lambda line: blf.dimensions(0, line)[0] <= width)
+        assert " ".join(lines) == " ".join(SENTENCE.split())
+        assert all(blf.dimensions(0, line)[0] <= width for line in lines if " " in line), (width, lines)
+        assert len(lines) > 1 or width == 400
+
+
+def test_a_word_wider_than_the_line_stands_alone():
+    assert wrap_words("a verylongword b", lambda line: len(line) <= 4) == ["a", "verylongword", "b"]
+
+
+def test_the_last_bake_box_pairs_each_label_with_its_value(addon):
+    settings = bpy.context.scene.seamless_ao
+    settings.last_bake_time, settings.last_bake_texels, settings.last_bake_rays = 33.5, 836482, 53012032
+    settings.last_bake_utilisation, settings.last_bake_noise = 0.76, 0.01
+    assert last_bake_rows(settings) == [("Time", "33.5 s"), ("Texels", "836,482"), ("Rays", "53,012,032"),
+                                        ("Atlas use", "76%"), ("Noise (raw, 1σ)", "≈ 0.010")]
