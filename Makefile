@@ -5,6 +5,7 @@
 #   make test        run the test suite on Blender 5.0, 4.2 LTS and 5.2 (bpy wheels), then make test-real
 #   make test BLENDERS=5.0       ... on one Blender only (and test-real)
 #   make test-real   the tests that run a real blender binary (Debian's, in a root built once; needs root)
+#   make test-gui    ... only those in a Blender window (Xvfb), driven with the mouse and keyboard
 #   make test-fast   only tests/core (numpy + mathutils, no Blender data) on Blender 5.0
 #   make bench       every benchmark, each writing its page into docs/bench/; then docs/benchmarks.md
 #   make docs        docs/settings.md, docs/constants.md, docs/tested.md, read off the code
@@ -37,10 +38,10 @@ WHEELHOUSE ?= $(shell python3 -m pip cache dir 2>/dev/null || echo $(HOME)/.cach
 venv_dir = .venv/$(1)
 venv_python = .venv/$(1)/bin/python
 
-.PHONY: help setup demo batch test test-fast test-one test-real docs bench extension validate clean
+.PHONY: help setup demo batch test test-fast test-one test-real test-gui docs bench extension validate clean
 
 help:
-	@sed -n '3,10p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '3,11p' Makefile | sed 's/^# \{0,1\}//'
 
 # .venv/<version>/.installed is rebuilt when the pins change.
 .venv/%/.installed: requirements/blender-%.txt
@@ -84,6 +85,7 @@ test-one: .venv/$(BLENDER)/.installed wheels/.downloaded .node/.installed
 # (tests/scripts/make_blender_root.sh; needs root and debootstrap, which it installs with apt-get). Where the
 # machine cannot build it, the tests are skipped with its sentence; under CI that is an error.
 BLENDER_ROOT ?= $(HOME)/.cache/seamless-ao-blender-root
+REAL_TESTS ?= tests/real_blender
 
 test-real: .venv/5.0/.installed wheels/.downloaded .node/.installed
 	@status=0; bash tests/scripts/make_blender_root.sh "$(BLENDER_ROOT)" || status=$$?; \
@@ -91,7 +93,10 @@ test-real: .venv/5.0/.installed wheels/.downloaded .node/.installed
 	if [ $$status -eq 3 ]; then echo "== real Blender: skipped (the root cannot be built here)"; exit 0; fi; \
 	if [ $$status -ne 0 ]; then echo "error: building the real-Blender root in $(BLENDER_ROOT) failed" >&2; exit 1; fi; \
 	echo "== real Blender ($(BLENDER_ROOT)): pytest"; \
-	SEAMLESS_AO_BLENDER_ROOT="$(BLENDER_ROOT)" $(call venv_python,5.0) -m pytest tests/real_blender $(PYTEST_ARGS)
+	SEAMLESS_AO_BLENDER_ROOT="$(BLENDER_ROOT)" $(call venv_python,5.0) -m pytest $(REAL_TESTS) $(PYTEST_ARGS)
+
+test-gui:
+	@$(MAKE) --no-print-directory test-real REAL_TESTS=tests/real_blender/test_gui.py
 
 # The Khronos glTF validator (npm), pinned by requirements/gltf-validator/package-lock.json; the tests run it
 # on every GLB they write.

@@ -180,7 +180,9 @@ def real_blender_section():
             "and debootstrap; where the machine cannot build it the tests are skipped with its sentence, and under "
             "CI that is an error). The extension is installed from its zip with Blender's own "
             "`extension install-file`; every headless command of the README, `docs/usage.md` and "
-            "`docs/pipelines.md` is read from those pages and run as written.".format(
+            "`docs/pipelines.md` is read from those pages and run as written; `test_gui.py` (also `make test-gui`) drives "
+            "a Blender window under Xvfb with the mouse and keyboard and saves a screenshot of each step in "
+            "`out/gui/`.".format(
                 real_blender.BLENDER_VERSION, real_blender.BLENDER_PYTHON), "",
             *["- `real_blender/{}`: `{}`".format(where, name) for where, name in tests], "",
             "Inside that Blender (`tests/run.py`), with its own worker processes: " +

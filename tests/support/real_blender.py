@@ -10,10 +10,12 @@ also ``HOME``: the Blender preferences and extensions of these tests live there,
 ``make test`` builds the root and names it in ``SEAMLESS_AO_BLENDER_ROOT``.
 """
 
+import contextlib
 import os
 import pathlib
 import signal
 import subprocess
+import time
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 #: The environment variable through which ``make test`` names the root.
@@ -25,6 +27,9 @@ BLENDER_PYTHON = "3.13"
 REPO_INSIDE = "/seamless_ao"
 SCRATCH_INSIDE = "/scratch"
 PATH = "/usr/local/bin:/usr/bin:/bin"
+#: The X display and screen the window tests run Blender on (Xvfb inside the root).
+DISPLAY = ":99"
+SCREEN = "1600x900x24"
 
 
 def root_from_environment():
@@ -132,3 +137,23 @@ class RealBlender:
         script.write_text(code)
         return self.run("blender", "--background", "--factory-startup", "--python", self.inside(script), "--",
                         *args, timeout=timeout)
+
+    @contextlib.contextmanager
+    def display(self):
+        """An X server (Xvfb) inside the root for the duration; yields the environment a window needs."""
+        socket = self.root / "tmp" / ".X11-unix" / "X{}".format(DISPLAY.lstrip(":"))
+        if socket.exists():
+            socket.unlink()                    # left by a server that was killed
+        server = subprocess.Popen(["chroot", str(self.root), "Xvfb", DISPLAY, "-screen", "0", SCREEN, "-nolisten",
+                                   "tcp"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                  start_new_session=True)
+        try:
+            deadline = time.monotonic() + 30
+            while not socket.exists():
+                if server.poll() is not None or time.monotonic() > deadline:
+                    raise RuntimeError("Xvfb did not start in the root (exit code {})".format(server.poll()))
+                time.sleep(0.1)
+            yield {"DISPLAY": DISPLAY}
+        finally:
+            os.killpg(server.pid, signal.SIGKILL)
+            server.wait()
