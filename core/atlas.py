@@ -102,6 +102,18 @@ class Atlas:
         (:meth:`axis_uv` of each axis, stacked)."""
         return np.stack([self.axis_uv(axis) for axis in range(3)], axis=1)
 
+    def layer_member(self, axis, triangles=slice(None)):
+        """(k,) int: the member each of ``triangles`` is read through in layer ``axis`` (its chart on that
+        axis, else its dominant one)."""
+        member = self.membership[triangles, axis]
+        return np.where(member >= 0, member, self.dominant_member[triangles])
+
+    def layer_drop(self, axis, triangles=slice(None)):
+        """(k,) int8: the coordinate (0 x, 1 y, 2 z) that the chart each of ``triangles`` is read through in
+        layer ``axis`` projects away: its UVs there are an affine function of the other two."""
+        chart = self.member_chart[self.layer_member(axis, triangles)]
+        return (self.charts.chart_axis[chart] // 2).astype(np.int8)
+
     def axis_uv(self, axis, triangles=slice(None)):
         """(k, 3, 2) float64: UV of each corner of ``triangles`` (a slice or (k,) int) in layer ``AO_X``,
         ``AO_Y`` or ``AO_Z`` (``axis`` 0, 1, 2), within half a texel of the image's border.
@@ -111,9 +123,7 @@ class Atlas:
         layer at a time: a bake writes the layers one by one, and the three
         together are 72 bytes per triangle (72 MB at a million triangles).
         """
-        member = self.membership[triangles, axis]
-        member = np.where(member >= 0, member, self.dominant_member[triangles])
-        uv = self.member_uv[member]
+        uv = self.member_uv[self.layer_member(axis, triangles)]
         # column by column: what ``uv /= size`` and ``np.clip`` compute, in a fifth of the time
         for column, size in enumerate((float(self.width), float(self.height))):
             values = uv[..., column]

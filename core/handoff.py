@@ -116,11 +116,12 @@ def outcome_numbers(result):
 
 def write_outcome(folder, result, part_count):
     """Write what the window's Blender writes into Blender data: the image, each input mesh's UVs in
-    AO_X, AO_Y and AO_Z, and :func:`outcome_numbers`.  The JSON goes last: its presence means done."""
+    AO_X, AO_Y and AO_Z and the coordinate each layer's chart drops, and :func:`outcome_numbers`.  The JSON goes last: its presence means done."""
     _save(folder, "image", result.image)
     for part in range(part_count):
         for axis, uv in enumerate(result.part_axis_uv(part)):
             _save(folder, "uv{}_{}".format(part, axis), uv)
+        _save(folder, "drop{}".format(part), result.part_layer_drop(part))
     _write_json(folder, OUTCOME, outcome_numbers(result))
 
 
@@ -136,6 +137,10 @@ class HandedBack:
     def part_axis_uv(self, part):
         """Input mesh ``part``'s triangles' UVs in AO_X, AO_Y and AO_Z: three (k, 3, 2) float64."""
         return [_load(self.folder, "uv{}_{}".format(part, axis)) for axis in range(3)]
+
+    def part_layer_drop(self, part):
+        """(k, 3) int8: see :meth:`.pipeline.BakeResult.part_layer_drop`."""
+        return _load(self.folder, "drop{}".format(part))
 
 
 def read_outcome(folder):

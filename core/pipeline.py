@@ -57,6 +57,12 @@ class BakeResult:
         triangles = self.part_triangles(part)
         return [self.layout.atlas.axis_uv(axis, triangles) for axis in range(3)]
 
+    def part_layer_drop(self, part):
+        """(k, 3) int8: for input mesh ``part``'s triangles, the coordinate each one's chart in AO_X, AO_Y and
+        AO_Z projects away (:meth:`.atlas.Atlas.layer_drop`)."""
+        triangles = self.part_triangles(part)
+        return np.stack([self.layout.atlas.layer_drop(axis, triangles) for axis in range(3)], axis=1)
+
     def part_triangles(self, part):
         """Slice of the combined mesh's triangles that came from input mesh ``part``."""
         counts = np.bincount(self.layout.part_of_triangle, minlength=part + 1)

@@ -46,6 +46,7 @@ class BakedObject:
     matrix: np.ndarray          # (4, 4) float64
     topology: Topology
     through_stack: bool
+    viewport_counts: tuple = (0, 0, 0)     # (points, faces, corners) of what the viewport evaluates
 
 
 #: What the bake report calls each caster (by its ``name``): with Ray Caster Automatic it says which one baked.
@@ -196,6 +197,11 @@ class BakeSession:
             for ob, mesh, part in zip(self.objects, meshes, baked):
                 occluders.append(scene_occluders(boxes, ob, *world_reach(mesh, part.matrix, self.settings))
                                  if boxes is not None else [])
+        depsgraph = bpy.context.evaluated_depsgraph_get()       # as the viewport evaluates it, levels and all
+        for part in baked:
+            if part.through_stack:
+                shown = part.ob.evaluated_get(depsgraph).data
+                part.viewport_counts = (len(shown.vertices), len(shown.polygons), len(shown.loops))
         self.fingerprints = [mesh_fingerprint(ob) for ob in self.objects]
         return meshes, baked, occluders
 
@@ -222,7 +228,8 @@ class BakeSession:
             for part, baked in enumerate(self.baked):
                 part_uv = result.part_axis_uv(part)
                 if baked.through_stack:
-                    transaction.stack_uv_maps(baked.ob, baked.topology, baked.loops, part_uv)
+                    transaction.stack_uv_maps(baked.ob, baked.topology, baked.loops, part_uv,
+                                              result.part_layer_drop(part), baked.viewport_counts)
                 else:
                     transaction.drop_stack(baked.ob)
                     transaction.uv_maps(baked.ob.data, baked.loops, part_uv)

@@ -128,7 +128,7 @@ class Transaction:
         self.undo.append(lambda mesh=mesh, active=active, render=render: _restore_active(mesh, active, render))
         _restore_active(mesh, active, render)
 
-    def stack_uv_maps(self, ob, topology, loops, axis_uv):
+    def stack_uv_maps(self, ob, topology, loops, axis_uv, layer_drop, viewport_counts):
         """UV maps AO_X/Y/Z for an object whose stack changes its topology (or whose mesh is shared): a
         helper holding the baked corners and the maps, and the ``Seamless AO`` modifier, last in the stack,
         that stores them onto the evaluated mesh (:mod:`.stack`).  A helper from an earlier bake is kept
@@ -139,11 +139,15 @@ class Transaction:
         topology : mesh_data.Topology, the evaluated corners the bake saw
         loops : (t, 3) int, the corner of each triangle corner
         axis_uv : three (t, 3 corners, 2), the triangles' UVs in AO_X, AO_Y and AO_Z
+        layer_drop : (t, 3 layers) int, the coordinate each triangle's chart drops in each layer
+        viewport_counts : (points, faces, corners) of the surface the viewport shows (its levels may differ)
         """
         per_corner = np.zeros((3, len(topology.corner_vert), 2), dtype=np.float32)
+        drop_per_corner = np.zeros((3, len(topology.corner_vert)), dtype=np.int8)
         for axis in range(3):
             per_corner[axis][loops.ravel()] = axis_uv[axis].reshape(-1, 2)
-        mesh = stack.helper_mesh(stack.helper_name(ob), topology, per_corner)
+            drop_per_corner[axis][loops.ravel()] = np.repeat(layer_drop[:, axis], 3)
+        mesh = stack.helper_mesh(stack.helper_name(ob), topology, per_corner, drop_per_corner)
         helper = bpy.data.objects.new(stack.helper_name(ob), mesh)
         self.undo.append(lambda helper=helper: stack.remove_helper(helper))
         old = stack.helper_of(ob)
@@ -156,14 +160,14 @@ class Transaction:
             modifier.use_pin_to_last = True                   # stays last when the artist adds modifiers
             self.undo.append(lambda ob=ob, name=modifier.name: ob.modifiers.remove(ob.modifiers[name]))
         else:
-            self.undo.append(lambda modifier=modifier, old=stack.baked_input(modifier): stack.set_baked_input(
-                modifier, old))
+            self.undo.append(lambda modifier=modifier, old=stack.baked_input(modifier),
+                             counts=stack.viewport_counts(modifier): stack.set_baked_input(modifier, old, counts))
             position = list(ob.modifiers).index(modifier)
             if position != len(ob.modifiers) - 1:             # the user added modifiers after it: it goes last
                 ob.modifiers.move(position, len(ob.modifiers) - 1)
                 self.undo.append(lambda ob=ob, name=modifier.name, position=position: ob.modifiers.move(
                     len(ob.modifiers) - 1, position))
-        stack.set_baked_input(modifier, helper)
+        stack.set_baked_input(modifier, helper, viewport_counts)
         modifier.show_viewport = modifier.show_render = True
         self.set_property(ob, HELPER_KEY, helper.name)
         ob.update_tag()
@@ -175,11 +179,12 @@ class Transaction:
         if modifier is not None:
             position = list(ob.modifiers).index(modifier)
             group, baked, pinned = modifier.node_group, stack.baked_input(modifier), modifier.use_pin_to_last
+            counts = stack.viewport_counts(modifier)
 
-            def restore(ob=ob, group=group, baked=baked, position=position, pinned=pinned):
+            def restore(ob=ob, group=group, baked=baked, position=position, pinned=pinned, counts=counts):
                 again = ob.modifiers.new(STACK_MODIFIER, "NODES")
                 again.node_group = group
-                stack.set_baked_input(again, baked)
+                stack.set_baked_input(again, baked, counts)
                 ob.modifiers.move(len(ob.modifiers) - 1, position)
                 again.use_pin_to_last = pinned
             ob.modifiers.remove(modifier)

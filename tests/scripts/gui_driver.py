@@ -1,6 +1,6 @@
 """What an artist does in Blender's window, driven with the mouse and keyboard (xdotool) under Xvfb:
 
-    blender --factory-startup --python gui_driver.py -- SCENARIO OUT_DIR [ZIP]
+    blender --factory-startup --python gui_driver.py -- SCENARIO OUT_DIR ZIP [ARGUMENTS]
 
 Runs inside the real Blender of ``tests/support/real_blender.py``; writes ``OUT_DIR/result.json`` (what
 each step saw, read from Blender's data) and a screenshot per step (``OUT_DIR/NN_step.png``), then quits.
@@ -10,8 +10,8 @@ Blender with Ctrl+C (an operator button copies its Python command) or Ctrl+Shift
 data path), a sub-panel header by the disclosure triangles in a screenshot.
 
 Scenarios: ``artist`` (install, tab, Bake, Esc, Ctrl+Z, Preview AO Only, Clear, Export, save) and
-``freeze`` (one bake at the scene's settings while a 50 ms timer counts how often the interface was free;
-the bench's, ``tests/bench/bench_window.py``).
+``freeze SCENE BAKER`` (one bake at the defaults while a 50 ms timer counts how often the interface was
+free; the bench's, ``tests/bench/bench_window.py``).
 """
 
 import json
@@ -23,8 +23,7 @@ import traceback
 
 import bpy
 
-SCENARIO, OUT = sys.argv[sys.argv.index("--") + 1:][:2]
-ZIP = (sys.argv[sys.argv.index("--") + 1:] + [None, None, None])[2]
+SCENARIO, OUT, ZIP = sys.argv[sys.argv.index("--") + 1:][:3]
 TICK = 0.05
 result = {"steps": []}
 ticks = []
@@ -317,18 +316,76 @@ def artist():
     step("save", path=path, plane_uv=bpy.data.objects["Plane"].data.uv_layers.keys())
 
 
+def dense_mesh():
+    """Suzanne subdivided four times, applied: about 250,000 triangles, smooth; alone, selected."""
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob)
+    bpy.ops.mesh.primitive_monkey_add(location=(0.0, 0.0, 1.0))
+    suzanne = bpy.context.active_object
+    modifier = suzanne.modifiers.new("Subdivision", "SUBSURF")
+    modifier.levels = modifier.render_levels = 4
+    bpy.ops.object.modifier_apply(modifier=modifier.name)
+    bpy.ops.object.shade_smooth()
+    return [suzanne]
+
+
+def blenders_own_bake_ready(objects, size=1024, samples=64):
+    """Blender's route: Smart UV Project, an image per object in its material, Cycles AO at ``samples``."""
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = samples
+    for ob in objects:
+        bpy.ops.object.select_all(action="DESELECT")
+        ob.select_set(True)
+        bpy.context.view_layer.objects.active = ob
+        bpy.ops.object.mode_set(mode="EDIT")
+        bpy.ops.mesh.select_all(action="SELECT")
+        bpy.ops.uv.smart_project()
+        bpy.ops.object.mode_set(mode="OBJECT")
+        material = bpy.data.materials.new(ob.name + " baked")
+        material.use_nodes = True
+        node = material.node_tree.nodes.new("ShaderNodeTexImage")
+        node.image = bpy.data.images.new(ob.name + " AO", size, size)
+        material.node_tree.nodes.active = node
+        ob.data.materials.clear()
+        ob.data.materials.append(material)
+    for ob in objects:
+        ob.select_set(True)
+
+
+def blender_baking():
+    return bpy.app.is_job_running("OBJECT_BAKE")
+
+
 def freeze():
-    """The bench's bake: the scene the bench saved (first argument after OUT: a .blend opened before)."""
-    settings = bpy.context.scene.seamless_ao if hasattr(bpy.context.scene, "seamless_ao") else None
+    """One bake at the defaults, timed by the 50 ms timer: ``SCENE`` (suzanne: Suzanne with Blender's
+    default Subdivision on a plane; dense: 250,000 triangles) baked by ``BAKER`` (ours, or blender: Smart
+    UV Project and Cycles' AO bake, 1024², 64 samples, as Blender's own route)."""
+    scene_kind, baker = sys.argv[sys.argv.index("--") + 1:][3:5]
+    bpy.ops.extensions.package_install_files(filepath=ZIP, repo="user_default", enable_on_install=True)
+    objects = list(the_scene()) if scene_kind == "suzanne" else dense_mesh()
+    if baker == "blender":
+        blenders_own_bake_ready(objects)
     start_window()
-    yield 2.0
+    yield 3.0
+    area, window, _ = regions()
     started = time.monotonic()
-    if settings is not None:
-        area, window, _ = regions()
-        with bpy.context.temp_override(area=area, region=window):
+    with bpy.context.temp_override(area=area, region=window):
+        if baker == "blender":
+            bpy.ops.object.bake("INVOKE_DEFAULT", type="AO")
+        else:
             bpy.ops.object.seamless_ao_bake("INVOKE_DEFAULT")
-        seconds, runs, longest = yield from wait_for_bake()
-    step("bake", seconds=seconds, timer_runs=runs, longest_freeze=longest, started=started)
+    running = blender_baking if baker == "blender" else baking
+    while not running() and time.monotonic() - started < 10:
+        yield 0.05
+    while running():
+        yield 0.1
+    runs, longest = freezes(started)
+    triangles = sum(len(ob.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.loop_triangles)
+                    for ob in objects)
+    step("bake", scene=scene_kind, baker=baker, seconds=time.monotonic() - started, timer_runs=runs,
+         longest_freeze=longest, triangles=triangles, screenshot=shot("{}_{}".format(scene_kind, baker)))
 
 
 SCENARIOS = {"artist": artist, "freeze": freeze}
