@@ -10,6 +10,7 @@ The process is :mod:`.bake_worker` in a background Blender (:mod:`..adapters.pro
 long calls (the atlas packer, Cycles' bakes) never freeze the window; Esc ends it at once.
 """
 
+import os
 import shutil
 import subprocess
 import tempfile
@@ -20,6 +21,18 @@ from ..adapters.processes import process_command, process_environment
 
 #: The lines of the process's log printed to the console when it fails through a fault of ours.
 LOG_LINES = 30
+#: How much less the process's share of the processor is than the window's (``nice`` steps): on a machine
+#: whose cores the bake fills, the window's redraws still come first.
+NICENESS = 10
+
+
+def lower_priority(command):
+    """``(command, Popen keywords)`` that start it at a lower priority than this process, where the system
+    says how: ``nice`` on Linux and macOS, a below-normal priority class on Windows."""
+    if os.name == "nt":
+        return command, {"creationflags": subprocess.BELOW_NORMAL_PRIORITY_CLASS}
+    nice = shutil.which("nice")
+    return ([nice, "-n", str(NICENESS), *command] if nice else command), {}
 
 
 class BackgroundBake:
@@ -31,10 +44,11 @@ class BackgroundBake:
         try:
             write_job(self.folder, meshes, matrices, occluders, settings)
             self.log_path = "{}/log.txt".format(self.folder)
+            command, keywords = lower_priority(process_command("bake-worker", self.folder))
             with open(self.log_path, "w", encoding="utf-8") as log:
-                self.process = subprocess.Popen(
-                    process_command("bake-worker", self.folder), stdout=log, stderr=subprocess.STDOUT,
-                    stdin=subprocess.DEVNULL, env=process_environment(self.folder))
+                self.process = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT,
+                                                stdin=subprocess.DEVNULL, env=process_environment(self.folder),
+                                                **keywords)
         except BaseException:
             self.close()
             raise

@@ -276,7 +276,10 @@ def artist():
     yield from press("seamless_ao_bake()")
     yield from wait_for_bake()
     yield from press("seamless_ao.preview", x_fraction=0.75, copy="ctrl+shift+c")
-    area, _, _ = regions()
+    area, window, _ = regions()
+    key("KP_1")                                           # Suzanne from the front, filling the view
+    with bpy.context.temp_override(area=area, region=window):
+        bpy.ops.view3d.view_selected()
     area.spaces.active.shading.type = "MATERIAL"
     yield 1.0
     compiling = time.monotonic()
