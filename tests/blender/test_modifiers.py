@@ -16,6 +16,7 @@ from plain_reference import plain_ao, visible_points
 from seamless_ao.core.blend import blended_ao
 from seamless_ao.core.keys import IMAGE_KEY, STACK_MODIFIER, STALE_ATTRIBUTE
 from seamless_ao.operators.adapters.mesh_data import read_triangles
+from viewport_checks import evaluated_surface, nearest_on, shown_on_the_evaluated_surface
 
 #: Issue 28's limits on the evaluated surface.
 RMSE_LIMIT, P99_LIMIT = 0.02, 0.08
@@ -141,23 +142,6 @@ def as_it_renders(ob):
             modifier.levels = modifier.render_levels
 
 
-def shown_on_the_evaluated_surface(ob, image, count=1500):
-    """What the material shows at visible points of ``ob``'s evaluated surface (the UV maps the Seamless AO
-    modifier stores, read from that surface), the points' mesh and where they are."""
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    evaluated = ob.evaluated_get(depsgraph)
-    mesh_data = evaluated.to_mesh()
-    try:
-        mesh, loops = read_triangles(mesh_data)
-        assert all(name in mesh_data.uv_layers for name in ("AO_X", "AO_Y", "AO_Z"))
-        uv = [uv_layer_array(mesh_data, name) for name in ("AO_X", "AO_Y", "AO_Z")]
-    finally:
-        evaluated.to_mesh_clear()
-    triangle, bary, normals = surface_samples(mesh, count, seed=2)
-    layer_uv = np.stack([np.einsum("kc,kcd->kd", bary, layer[loops[triangle]]) for layer in uv], axis=1)
-    return blended_ao(image_array(image), layer_uv, normals), mesh, triangle, bary, normals
-
-
 @pytest.mark.parametrize("name", sorted(STACKS))
 def test_a_modifier_stack_bakes_as_it_renders_and_stays_live(name, fresh_scene, addon):
     ob = STACKS[name]()
@@ -208,29 +192,6 @@ def test_no_seam_along_the_mirror_plane(fresh_scene, addon):
     shown = blended_ao(image, layer_uv, normals).reshape(-1, 2)
     jump = np.abs(shown[:, 0] - shown[:, 1])
     assert near.sum() >= 20 and jump.mean() <= 0.02 and jump.max() <= 0.08, (near.sum(), jump.mean(), jump.max())
-
-
-def nearest_on(surface, points):
-    """``(triangle, bary, normals)`` of the points of TriangleMesh ``surface`` nearest ``points``."""
-    from mathutils.bvhtree import BVHTree
-    tree = BVHTree.FromPolygons(surface.positions.tolist(), surface.triangles.tolist(), all_triangles=True)
-    triangle, bary = [], []
-    for point in points:
-        location, _, face, _ = tree.find_nearest(point.tolist())
-        corners = surface.positions[surface.triangles[face]]
-        triangle.append(face)
-        bary.append(np.linalg.lstsq(np.vstack([corners.T, np.ones(3)]), np.append(location, 1.0), rcond=None)[0])
-    triangle, bary = np.array(triangle), np.array(bary)
-    normals = np.einsum("kc,kcd->kd", bary, surface.corner_normals[triangle])
-    return triangle, bary, normals / np.linalg.norm(normals, axis=1, keepdims=True)
-
-
-def evaluated_surface(ob):
-    evaluated = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    try:
-        return read_triangles(evaluated.to_mesh())[0]
-    finally:
-        evaluated.to_mesh_clear()
 
 
 @pytest.mark.parametrize("viewport, render", [(1, 2), (0, 3)])

@@ -277,8 +277,8 @@ def artist():
     yield from wait_for_bake()
     yield from press("seamless_ao.preview", x_fraction=0.75, copy="ctrl+shift+c")
     area, window, _ = regions()
-    key("KP_1")                                           # Suzanne from the front, filling the view
-    with bpy.context.temp_override(area=area, region=window):
+    with bpy.context.temp_override(area=area, region=window):   # Suzanne from the front, filling the view
+        bpy.ops.view3d.view_axis(type="FRONT")
         bpy.ops.view3d.view_selected()
     area.spaces.active.shading.type = "MATERIAL"
     yield 1.0
