@@ -133,12 +133,9 @@ class BakeSession:
             check_unchanged(self.objects, self.fingerprints)
             warnings = numbers["warnings"] + self._write(outcome)
             self.report = BakeReport(
-                objects=[ob.name for ob in self.objects], image=self.image_name, width=numbers["width"],
-                height=numbers["height"], texels=numbers["texels"], rays=numbers["rays"],
-                utilisation=numbers["utilisation"], density=numbers["density"], charts=numbers["charts"],
-                seconds=time.perf_counter() - self.started, timings=numbers["timings"],
-                mesh_problems=numbers["mesh_problems"], warnings=warnings, caster=numbers["caster"],
-                noise=numbers["noise"])
+                objects=[ob.name for ob in self.objects], image=self.image_name,
+                seconds=time.perf_counter() - self.started, warnings=warnings,
+                **{name: value for name, value in numbers.items() if name != "warnings"})
             store_stats(self.scene, self.report)
             yield 1.0, "Done"
         finally:

@@ -43,7 +43,7 @@ class BackgroundBake:
         self.process = None
         try:
             write_job(self.folder, meshes, matrices, occluders, settings)
-            self.log_path = "{}/log.txt".format(self.folder)
+            self.log_path = os.path.join(self.folder, "log.txt")
             command, keywords = lower_priority(process_command("bake-worker", self.folder))
             with open(self.log_path, "w", encoding="utf-8") as log:
                 self.process = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT,
