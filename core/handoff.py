@@ -35,11 +35,16 @@ def _load(folder, name):
     return np.load(os.path.join(folder, name + ".npy"), allow_pickle=False)
 
 
-def _write_json(folder, name, data):
+def _replace(folder, name, text):
+    """Write ``text`` to ``name`` whole: a reader sees the old file or the new one, never half of it."""
     path = os.path.join(folder, name)
     with open(path + ".part", "w", encoding="utf-8") as handle:
-        json.dump(data, handle)
+        handle.write(text)
     os.replace(path + ".part", path)
+
+
+def _write_json(folder, name, data):
+    _replace(folder, name, json.dumps(data))
 
 
 def _read_json(folder, name):
@@ -88,10 +93,7 @@ def read_job(folder):
 
 def write_progress(folder, fraction, message):
     """Replace the progress line: ``fraction`` in [0, 1] and what is being done."""
-    path = os.path.join(folder, PROGRESS)
-    with open(path + ".part", "w", encoding="utf-8") as handle:
-        handle.write("{:.6f}\t{}".format(fraction, message))
-    os.replace(path + ".part", path)
+    _replace(folder, PROGRESS, "{:.6f}\t{}".format(fraction, message))
 
 
 def read_progress(folder):
@@ -116,7 +118,8 @@ def outcome_numbers(result):
 
 def write_outcome(folder, result, part_count):
     """Write what the window's Blender writes into Blender data: the image, each input mesh's UVs in
-    AO_X, AO_Y and AO_Z and the coordinate each layer's chart drops, and :func:`outcome_numbers`.  The JSON goes last: its presence means done."""
+    AO_X, AO_Y and AO_Z and the coordinate each layer's chart drops, and :func:`outcome_numbers`.  The JSON
+    goes last: its presence means done (:func:`outcome_written`)."""
     _save(folder, "image", result.image)
     for part in range(part_count):
         for axis, uv in enumerate(result.part_axis_uv(part)):
@@ -143,10 +146,13 @@ class HandedBack:
         return _load(self.folder, "drop{}".format(part))
 
 
+def outcome_written(folder):
+    """Whether :func:`write_outcome` has finished."""
+    return os.path.exists(os.path.join(folder, OUTCOME))
+
+
 def read_outcome(folder):
-    """The :class:`HandedBack` outcome, or None while it is not all written."""
-    if not os.path.exists(os.path.join(folder, OUTCOME)):
-        return None
+    """The :class:`HandedBack` outcome (once :func:`outcome_written`)."""
     return HandedBack(folder, _load(folder, "image"), _read_json(folder, OUTCOME))
 
 

@@ -16,7 +16,7 @@ import subprocess
 import tempfile
 
 from ...core.errors import SeamlessAOError
-from ...core.handoff import read_failure, read_outcome, read_progress, write_job
+from ...core.handoff import outcome_written, read_failure, read_outcome, read_progress, write_job
 from ..adapters.processes import process_command, process_environment
 
 #: The lines of the process's log printed to the console when it fails through a fault of ours.
@@ -59,7 +59,7 @@ class BackgroundBake:
         code = self.process.poll()
         if code is None:
             return read_progress(self.folder) or (0.02, "Starting the bake process")
-        if code == 0 and read_outcome(self.folder) is not None:
+        if code == 0 and outcome_written(self.folder):
             return None
         failure = read_failure(self.folder)
         if failure is not None and failure[1]:
