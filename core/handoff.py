@@ -1,7 +1,7 @@
 """A bake handed to another process and its result handed back, as files in one folder.
 
-    write_job(folder, meshes, matrices, occluders, settings)        # the window's Blender
-    meshes, matrices, occluders, settings = read_job(folder)          # the background process ...
+    write_job(folder, meshes, matrices, occluders, settings, shown)          # the window's Blender
+    meshes, matrices, occluders, settings, shown = read_job(folder)          # the background process ...
     write_progress(folder, 0.4, "Casting rays: 31%")                  # ... while it bakes
     write_outcome(folder, pipeline.result, len(meshes))               # ... or write_failure(folder, sentence)
     outcome = read_outcome(folder)                                    # the window's Blender again
@@ -25,6 +25,7 @@ PROGRESS = "progress.txt"
 OUTCOME = "outcome.json"
 FAILURE = "failure.json"
 MESH_ARRAYS = ("positions", "triangles", "triangle_face", "corner_normals")
+SURFACE_ARRAYS = ("positions", "corner_vert", "loop_start")
 
 
 def _save(folder, name, array):
@@ -52,7 +53,7 @@ def _read_json(folder, name):
         return json.load(handle)
 
 
-def write_job(folder, meshes, matrices, occluders, settings):
+def write_job(folder, meshes, matrices, occluders, settings, shown=None):
     """Write a bake's input.
 
     Parameters
@@ -63,7 +64,13 @@ def write_job(folder, meshes, matrices, occluders, settings):
     occluders : list (one per mesh) of lists of ``(positions (v, 3) float64, triangles (t, 3) int64)``,
         world geometry near that mesh
     settings : BakeSettings
+    shown : list (one per mesh) of None or ``(positions, corner_vert, loop_start)``, optional: another surface
+        the mesh shows (:class:`.pipeline.BakePipeline`'s ``shown``)
     """
+    shown = list(shown) if shown is not None else [None] * len(meshes)
+    for part, surface in enumerate(shown):
+        for name, array in zip(SURFACE_ARRAYS, surface or ()):
+            _save(folder, "shown{}_{}".format(part, name), array)
     for part, mesh in enumerate(meshes):
         for name in MESH_ARRAYS:
             _save(folder, "mesh{}_{}".format(part, name), getattr(mesh, name))
@@ -72,11 +79,12 @@ def write_job(folder, meshes, matrices, occluders, settings):
             _save(folder, "occluder{}_{}_positions".format(part, number), positions)
             _save(folder, "occluder{}_{}_triangles".format(part, number), triangles)
     _write_json(folder, JOB, {"settings": dataclasses.asdict(settings), "face_counts": [m.face_count for m in meshes],
-                              "occluders": [len(near) for near in occluders]})
+                              "occluders": [len(near) for near in occluders],
+                              "shown": [surface is not None for surface in shown]})
 
 
 def read_job(folder):
-    """``(meshes, matrices, occluders, settings)`` as :func:`write_job` was given them."""
+    """``(meshes, matrices, occluders, settings, shown)`` as :func:`write_job` was given them."""
     job = _read_json(folder, JOB)
     meshes, matrices, occluders = [], [], []
     for part, face_count in enumerate(job["face_counts"]):
@@ -88,7 +96,9 @@ def read_job(folder):
         occluders.append([(_load(folder, "occluder{}_{}_positions".format(part, number)),
                            _load(folder, "occluder{}_{}_triangles".format(part, number)))
                           for number in range(job["occluders"][part])])
-    return meshes, matrices, occluders, BakeSettings.from_kwargs(**job["settings"])
+    shown = [tuple(_load(folder, "shown{}_{}".format(part, name)) for name in SURFACE_ARRAYS) if given else None
+             for part, given in enumerate(job.get("shown", [False] * len(meshes)))]
+    return meshes, matrices, occluders, BakeSettings.from_kwargs(**job["settings"]), shown
 
 
 def write_progress(folder, fraction, message):
@@ -118,13 +128,14 @@ def outcome_numbers(result):
 
 def write_outcome(folder, result, part_count):
     """Write what the window's Blender writes into Blender data: the image, each input mesh's UVs in
-    AO_X, AO_Y and AO_Z and the coordinate each layer's chart drops, and :func:`outcome_numbers`.  The JSON
+    AO_X, AO_Y and AO_Z and those of the surface it shows (if given), and :func:`outcome_numbers`.  The JSON
     goes last: its presence means done (:func:`outcome_written`)."""
     _save(folder, "image", result.image)
     for part in range(part_count):
         for axis, uv in enumerate(result.part_axis_uv(part)):
             _save(folder, "uv{}_{}".format(part, axis), uv)
-        _save(folder, "drop{}".format(part), result.part_layer_drop(part))
+        if result.part_shown_uv(part) is not None:
+            _save(folder, "shown_uv{}".format(part), result.part_shown_uv(part))
     _write_json(folder, OUTCOME, outcome_numbers(result))
 
 
@@ -141,9 +152,11 @@ class HandedBack:
         """Input mesh ``part``'s triangles' UVs in AO_X, AO_Y and AO_Z: three (k, 3, 2) float64."""
         return [_load(self.folder, "uv{}_{}".format(part, axis)) for axis in range(3)]
 
-    def part_layer_drop(self, part):
-        """(k, 3) int8: see :meth:`.pipeline.BakeResult.part_layer_drop`."""
-        return _load(self.folder, "drop{}".format(part))
+    def part_shown_uv(self, part):
+        """(3, l, 2) float32 or None: see :meth:`.pipeline.BakeResult.part_shown_uv`."""
+        if not os.path.exists(os.path.join(self.folder, "shown_uv{}.npy".format(part))):
+            return None
+        return _load(self.folder, "shown_uv{}".format(part))
 
 
 def outcome_written(folder):

@@ -23,18 +23,14 @@ NODES_KEY = "seamless_ao_enabled_nodes"      # on materials: the add-on switched
 # -- objects whose modifiers change the topology (or that share a mesh): AO through a modifier ----------
 STACK_MODIFIER = "Seamless AO"               # the Geometry Nodes modifier, last in the stack
 STACK_GROUP = "Seamless AO UVs"              # its node group (found by STACK_VERSION_KEY)
-STACK_VERSION = 2
+STACK_VERSION = 3
 STACK_VERSION_KEY = "seamless_ao_stack_version"   # on that node group
 HELPER_KEY = "seamless_ao_helper"            # on objects: the object holding what their bake saw
 HELPER_PREFIX = ".SeamlessAO "               # the helper object and mesh (in no scene)
 STALE_ATTRIBUTE = "seamless_ao_stale"        # 1 where the stack no longer gives what was baked: no AO shown
-#: On the helper's faces, per AO layer, the affine map from position to UV (core/viewport_uv.py), read where
-#: the stack gives the viewport another surface than the one baked: "<prefix>X_u" (vector), "<prefix>X_u0"
-#: (float), likewise v.
-MAP_PREFIX = "seamless_ao_map_"
-NEAREST_FACE = "seamless_ao_nearest_face"    # on that surface's faces: the baked face nearest the centre
-#: The stack group's inputs: the viewport surface's counts at the bake (points, faces, corners).
-VIEWPORT_INPUTS = ("Viewport Points", "Viewport Faces", "Viewport Corners")
+#: The stack group's object inputs: the helper with the baked surface's corners, and the helper with the
+#: viewport surface's corners where the viewport's levels differ from the render's (core/viewport_uv.py).
+STACK_INPUTS = ("Baked", "Viewport")
 
 # -- the shader nodes ------------------------------------------------------------------
 GROUP_NAME = "Seamless AO"                   # the node group (found by VERSION_KEY whatever it is called now)

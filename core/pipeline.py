@@ -28,6 +28,7 @@ from .layout import Layout, build_layout
 from .rays import BVHCaster, ray_part
 from .settings import BakeSettings
 from .targets import TexelTargets
+from .viewport_uv import surface_uv
 
 
 @dataclass
@@ -46,6 +47,7 @@ class BakeResult:
     caster: str                    # the caster's name
     timings: dict = field(default_factory=dict)     # seconds of each stage
     warnings: list = field(default_factory=list)    # sentences for the user (the atlas')
+    shown_uv: dict = field(default_factory=dict)    # part: (3, l, 2) float32, UVs of the surface it shows
 
     @property
     def layer_uv(self):
@@ -62,6 +64,11 @@ class BakeResult:
         AO_Z projects away (:meth:`.atlas.Atlas.layer_drop`)."""
         triangles = self.part_triangles(part)
         return np.stack([self.layout.atlas.layer_drop(axis, triangles) for axis in range(3)], axis=1)
+
+    def part_shown_uv(self, part):
+        """(3 layers, l, 2) float32: UVs for the corners of the surface input mesh ``part`` shows in the
+        viewport (:func:`.viewport_uv.surface_uv`), or None where none was given."""
+        return self.shown_uv.get(part)
 
     def part_triangles(self, part):
         """Slice of the combined mesh's triangles that came from input mesh ``part``."""
@@ -85,15 +92,19 @@ class BakePipeline:
     free_casters : callable ``(casters) -> None``, optional
         Frees several casters at once (the Blender side removes all their datablocks in one call); by
         default each caster's ``free()``.
+    shown : list (one per mesh) of None or ``(positions (v, 3), corner_vert (l,), loop_start (f,))``, optional
+        Another surface the mesh shows (the viewport's, at other Subdivision levels), in its object space:
+        the result then holds UVs for its corners (:meth:`BakeResult.part_shown_uv`).
     """
 
-    def __init__(self, meshes, matrices, settings, make_caster, occluders=None, free_casters=None):
+    def __init__(self, meshes, matrices, settings, make_caster, occluders=None, free_casters=None, shown=None):
         self.meshes = list(meshes)
         self.matrices = [np.asarray(m, dtype=np.float64) for m in matrices]
         self.settings = settings
         self.make_caster = make_caster
         self.occluders = occluders
         self.free_casters = free_casters or _free_each
+        self.shown = list(shown) if shown is not None else [None] * len(self.meshes)
         self.parts = []
         self.result = None
 
@@ -151,8 +162,24 @@ class BakePipeline:
                 computed=job.computed, buried=job.buried, ray_count=job.ray_count, texels=job.total,
                 rays=job.rays_cast, noise=noise, caster=caster, timings=dict(layout.timings, rays=job.seconds),
                 warnings=list(layout.atlas.warnings))
+            if any(surface is not None for surface in self.shown):
+                yield 0.97, "UV maps for the viewport's surface"
+                start = time.perf_counter()
+                for part, surface in enumerate(self.shown):
+                    if surface is not None:
+                        self.result.shown_uv[part] = self.shown_surface_uv(part, surface)
+                self.result.timings["viewport"] = time.perf_counter() - start
         finally:
             self.free()
+
+    def shown_surface_uv(self, part, surface):
+        """UVs for ``surface`` (``(positions, corner_vert, loop_start)``) from mesh ``part``'s charts."""
+        triangles = self.meshes[part].triangles
+        corner_uv = np.stack(self.result.part_axis_uv(part)).reshape(3, -1, 2)          # (3, 3t, 2)
+        corner_drop = np.repeat(self.result.part_layer_drop(part).T, 3, axis=1)         # (3, 3t)
+        baked = (self.meshes[part].positions, triangles.ravel(), np.arange(len(triangles)) * 3)
+        return surface_uv(baked, corner_uv, corner_drop, surface, (self.result.layout.atlas.width,
+                                                                   self.result.layout.atlas.height))
 
     def free(self):
         """Free every caster made so far (safe to call twice)."""

@@ -20,13 +20,14 @@ def clear(objects):
             continue
         touched = False
         mesh = ob.data
-        modifier, helper = stack.stack_modifier(ob), stack.helper_of(ob)
+        modifier, helpers = stack.stack_modifier(ob), (stack.helper_of(ob), stack.viewport_helper_of(ob))
         if modifier is not None:
             ob.modifiers.remove(modifier)
             touched = True
-        if helper is not None:
-            stack.remove_helper(helper)
-            touched = True
+        for helper in helpers:
+            if helper is not None:
+                stack.remove_helper(helper)
+                touched = True
         if ob.get(HELPER_KEY) is not None:
             del ob[HELPER_KEY]
         for name in AO_LAYERS:

@@ -46,7 +46,7 @@ class BakedObject:
     matrix: np.ndarray          # (4, 4) float64
     topology: Topology
     through_stack: bool
-    viewport_counts: tuple = (0, 0, 0)     # (points, faces, corners) of what the viewport evaluates
+    viewport: Topology = None   # the surface the viewport evaluates, where its levels give another one
 
 
 #: What the bake report calls each caster (by its ``name``): with Ray Caster Automatic it says which one baked.
@@ -125,7 +125,7 @@ class BakeSession:
                 # only at hand there), so the pipeline's (low, high, reach) arguments are not needed again.
                 self.pipeline = BakePipeline(meshes, [b.matrix for b in self.baked], self.settings,
                                              caster_maker(self.settings), lambda part, *_: occluders[part],
-                                             free_casters)
+                                             free_casters, self._shown())
                 yield from self.pipeline.steps()
                 outcome = self.pipeline.result
                 numbers = outcome_numbers(outcome)
@@ -141,9 +141,15 @@ class BakeSession:
         finally:
             self.cancel()
 
+    def _shown(self):
+        """Per baked object, the viewport's surface where it is not the one baked (else None), as arrays."""
+        return [(b.viewport.positions, b.viewport.corner_vert, b.viewport.loop_start) if b.viewport else None
+                for b in self.baked]
+
     def _steps_in_background(self, meshes, occluders):
         """The pipeline in a process of its own (:mod:`..background.client`); returns its outcome."""
-        self.process = BackgroundBake(meshes, [b.matrix for b in self.baked], occluders, self.settings)
+        self.process = BackgroundBake(meshes, [b.matrix for b in self.baked], occluders, self.settings,
+                                      self._shown())
         while (state := self.process.poll()) is not None:
             yield state
         return self.process.outcome()
@@ -197,8 +203,8 @@ class BakeSession:
         depsgraph = bpy.context.evaluated_depsgraph_get()       # as the viewport evaluates it, levels and all
         for part in baked:
             if part.through_stack:
-                shown = part.ob.evaluated_get(depsgraph).data
-                part.viewport_counts = (len(shown.vertices), len(shown.polygons), len(shown.loops))
+                shown = Topology.of(part.ob.evaluated_get(depsgraph).data)
+                part.viewport = shown if shown.counts() != part.topology.counts() else None
         self.fingerprints = [mesh_fingerprint(ob) for ob in self.objects]
         return meshes, baked, occluders
 
@@ -225,8 +231,8 @@ class BakeSession:
             for part, baked in enumerate(self.baked):
                 part_uv = result.part_axis_uv(part)
                 if baked.through_stack:
-                    transaction.stack_uv_maps(baked.ob, baked.topology, baked.loops, part_uv,
-                                              result.part_layer_drop(part), baked.viewport_counts)
+                    transaction.stack_uv_maps(baked.ob, baked.topology, baked.loops, part_uv, baked.viewport,
+                                              result.part_shown_uv(part))
                 else:
                     transaction.drop_stack(baked.ob)
                     transaction.uv_maps(baked.ob.data, baked.loops, part_uv)

@@ -8,10 +8,10 @@ modifier, ``Seamless AO``, last in the stack, stores those UV maps onto the
 evaluated mesh by corner index, where the materials' UV Map nodes read them.
 
 Where the viewport's levels differ from the render's (Blender's default
-Subdivision: 1 in the viewport, 2 at render), the modifier finds the
-viewport's surface by its counts at the bake (the modifier's ``Viewport …``
-inputs) and gives each of its faces the UV map of the baked face nearest its
-centre (:mod:`...core.viewport_uv`), evaluated at its own corners.
+Subdivision: 1 in the viewport, 2 at render), a second helper holds the
+viewport surface's corners as the bake saw them, with UV maps that read each
+of its faces through one baked chart (:mod:`...core.viewport_uv`); the
+modifier's ``Viewport`` input points at it.
 
 When the stack gives neither surface (its point, face or corner count
 differs: a modifier was changed after the bake), the modifier stores no UV
@@ -22,9 +22,8 @@ shows no AO there, never AO read through UV maps that do not fit.
 import bpy
 import numpy as np
 
-from ...core.keys import (AO_LAYERS, HELPER_KEY, HELPER_PREFIX, MAP_PREFIX, NEAREST_FACE, STACK_GROUP,
-                          STACK_MODIFIER, STACK_VERSION, STACK_VERSION_KEY, STALE_ATTRIBUTE, VIEWPORT_INPUTS)
-from ...core.viewport_uv import face_uv_maps
+from ...core.keys import (AO_LAYERS, HELPER_KEY, HELPER_PREFIX, STACK_GROUP, STACK_INPUTS, STACK_MODIFIER,
+                          STACK_VERSION, STACK_VERSION_KEY, STALE_ATTRIBUTE)
 from .mesh_data import write_uv
 
 
@@ -105,83 +104,59 @@ def _switch(nodes, links, condition, when_true, when_false):
     return switch.outputs[0]
 
 
+def _corner_uv_maps(nodes, links, given, source):
+    """``given`` with the UV maps AO_X/Y/Z of helper geometry ``source``, corner by corner."""
+    index = nodes.new("GeometryNodeInputIndex").outputs["Index"]
+    for layer in AO_LAYERS:
+        uv = _sample(nodes, links, source, _named(nodes, layer, "FLOAT_VECTOR"), "FLOAT_VECTOR", "CORNER", index)
+        given = _store(nodes, links, given, layer, "FLOAT2", "CORNER", uv)
+    return given
+
+
 def _build(group):
     group.nodes.clear()
     group.interface.clear()
     group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-    helper = group.interface.new_socket("Baked", in_out="INPUT", socket_type="NodeSocketObject")
-    helper.description = "What the bake saw: the evaluated mesh's corners and the AO UV maps on them"
-    for name in VIEWPORT_INPUTS:
-        count = group.interface.new_socket(name, in_out="INPUT", socket_type="NodeSocketInt")
-        count.description = "The viewport surface's count at the bake (its levels may differ from the render's)"
+    descriptions = ("What the bake saw: the evaluated mesh's corners and the AO UV maps on them",
+                    "The viewport's surface at the bake (its levels may differ from the render's) and its UV maps")
+    for name, description in zip(STACK_INPUTS, descriptions):
+        socket = group.interface.new_socket(name, in_out="INPUT", socket_type="NodeSocketObject")
+        socket.description = description
     group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
     nodes, links = group.nodes, group.links
     inputs, outputs = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
-    info = nodes.new("GeometryNodeObjectInfo")
-    info.transform_space = "ORIGINAL"
-    links.new(inputs.outputs["Baked"], info.inputs["Object"])
-    baked, given = info.outputs["Geometry"], inputs.outputs["Geometry"]
-    sizes = []
-    for source in (given, baked):
+    given = inputs.outputs["Geometry"]
+    sizes, helpers = [], []
+    for source in [given] + [inputs.outputs[name] for name in STACK_INPUTS]:
+        if source is not given:
+            info = nodes.new("GeometryNodeObjectInfo")
+            info.transform_space = "ORIGINAL"
+            links.new(source, info.inputs["Object"])
+            source = info.outputs["Geometry"]
+            helpers.append(source)
         size = nodes.new("GeometryNodeAttributeDomainSize")
         size.component = "MESH"
         links.new(source, size.inputs["Geometry"])
         sizes.append([size.outputs[name] for name in ("Point Count", "Face Count", "Face Corner Count")])
-    # what was baked: the UV maps, corner by corner
-    fits_baked = _counts_equal(nodes, links, sizes[0], sizes[1])
-    index = nodes.new("GeometryNodeInputIndex").outputs["Index"]
-    exact = given
-    for layer in AO_LAYERS:
-        uv = _sample(nodes, links, baked, _named(nodes, layer, "FLOAT_VECTOR"), "FLOAT_VECTOR", "CORNER", index)
-        exact = _store(nodes, links, exact, layer, "FLOAT2", "CORNER", uv)
-    # the viewport's surface at the bake: each face reads through the nearest baked face's maps
-    fits_viewport = _counts_equal(nodes, links, sizes[0], [inputs.outputs[name] for name in VIEWPORT_INPUTS])
-    nearest = nodes.new("GeometryNodeSampleNearest")
-    nearest.domain = "FACE"
-    links.new(baked, nearest.inputs["Geometry"])
-    position = nodes.new("GeometryNodeInputPosition").outputs["Position"]
-    links.new(position, nearest.inputs["Sample Position"])   # on the face domain: the face's centre
-    near = _store(nodes, links, given, NEAREST_FACE, "INT", "FACE", nearest.outputs["Index"])
-    face = _named(nodes, NEAREST_FACE, "INT")
-    for layer in AO_LAYERS:
-        rows = []
-        for row in "uv":
-            name = MAP_PREFIX + layer[-1] + "_" + row
-            linear = _sample(nodes, links, baked, _named(nodes, name, "FLOAT_VECTOR"), "FLOAT_VECTOR", "FACE", face)
-            shift = _sample(nodes, links, baked, _named(nodes, name + "0", "FLOAT"), "FLOAT", "FACE", face)
-            dot = nodes.new("ShaderNodeVectorMath")
-            dot.operation = "DOT_PRODUCT"
-            links.new(linear, dot.inputs[0])
-            links.new(position, dot.inputs[1])
-            add = nodes.new("ShaderNodeMath")
-            add.operation = "ADD"
-            links.new(dot.outputs["Value"], add.inputs[0])
-            links.new(shift, add.inputs[1])
-            rows.append(add.outputs[0])
-        combine = nodes.new("ShaderNodeCombineXYZ")
-        links.new(rows[0], combine.inputs["X"])
-        links.new(rows[1], combine.inputs["Y"])
-        near = _store(nodes, links, near, layer, "FLOAT2", "CORNER", combine.outputs["Vector"])
-    remove = nodes.new("GeometryNodeRemoveAttribute")
-    remove.inputs["Name"].default_value = NEAREST_FACE
-    links.new(near, remove.inputs["Geometry"])
-    # neither: a stale mark, which the shader group turns into no AO
+    # the surface baked, or the viewport's at the bake: its UV maps by corner index; neither: a stale mark,
+    # which the shader group turns into no AO
     stale = nodes.new("GeometryNodeStoreNamedAttribute")
     stale.data_type, stale.domain = "FLOAT", "POINT"
     stale.inputs["Name"].default_value = STALE_ATTRIBUTE
     _value(stale.inputs).default_value = 1.0
     links.new(given, stale.inputs["Geometry"])
-    other = _switch(nodes, links, fits_viewport, remove.outputs["Geometry"], stale.outputs["Geometry"])
-    links.new(_switch(nodes, links, fits_baked, exact, other), outputs.inputs["Geometry"])
+    result = stale.outputs["Geometry"]
+    for helper, helper_sizes in reversed(list(zip(helpers, sizes[1:]))):
+        fits = _counts_equal(nodes, links, sizes[0], helper_sizes)
+        result = _switch(nodes, links, fits, _corner_uv_maps(nodes, links, given, helper), result)
+    links.new(result, outputs.inputs["Geometry"])
     for k, node in enumerate(nodes):
         node.location = (200.0 * (k % 8), -200.0 * (k // 8))
 
 
-def helper_mesh(name, topology, layer_uv_per_corner, layer_drop_per_corner):
-    """A new mesh with the baked corners (``topology``: :class:`.mesh_data.Topology`), UV maps AO_X/Y/Z
-    from ``layer_uv_per_corner`` (3, l, 2), and on its faces each layer's map from position to UV
-    (:func:`...core.viewport_uv.face_uv_maps`; ``layer_drop_per_corner`` (3, l): the coordinate each
-    corner's chart drops)."""
+def helper_mesh(name, topology, layer_uv_per_corner):
+    """A new mesh with the corners of ``topology`` (:class:`.mesh_data.Topology`) and UV maps AO_X/Y/Z from
+    ``layer_uv_per_corner`` (3, l, 2)."""
     mesh = bpy.data.meshes.new(name)
     mesh.vertices.add(len(topology.positions))
     mesh.attributes["position"].data.foreach_set("vector", np.ascontiguousarray(topology.positions).ravel())
@@ -196,15 +171,6 @@ def helper_mesh(name, topology, layer_uv_per_corner, layer_drop_per_corner):
     for layer, uv in zip(AO_LAYERS, layer_uv_per_corner):
         mesh.uv_layers.new(name=layer, do_init=False)
         write_uv(mesh, layer, uv)
-    linear, offset = face_uv_maps(topology.positions, topology.corner_vert, topology.loop_start,
-                                  layer_uv_per_corner, layer_drop_per_corner)
-    for number, layer in enumerate(AO_LAYERS):
-        for row, part in enumerate("uv"):
-            name = MAP_PREFIX + layer[-1] + "_" + part
-            mesh.attributes.new(name, "FLOAT_VECTOR", "FACE").data.foreach_set(
-                "vector", np.ascontiguousarray(linear[number, :, row]).ravel())
-            mesh.attributes.new(name + "0", "FLOAT", "FACE").data.foreach_set(
-                "value", np.ascontiguousarray(offset[number, :, row]))
     return mesh
 
 
@@ -224,51 +190,62 @@ def stack_modifier(ob):
 
 
 def _input_identifier(modifier, name):
-    return next(item.identifier for item in modifier.node_group.interface.items_tree
-                if getattr(item, "in_out", None) == "INPUT" and item.name == name)
+    """The identifier of the modifier's input ``name``, or None (a group from an older version lacks it)."""
+    return next((item.identifier for item in modifier.node_group.interface.items_tree
+                 if getattr(item, "in_out", None) == "INPUT" and item.name == name), None)
 
 
-def baked_socket(modifier):
-    """The identifier of the modifier's ``Baked`` input (the helper object goes there)."""
-    return _input_identifier(modifier, "Baked")
+def _inputs_of(modifier):
+    """Blender 5.2 keeps a modifier's inputs as RNA (``properties.inputs``), earlier ones as ID properties."""
+    return getattr(getattr(modifier, "properties", None), "inputs", None)
+
+
+def helper_inputs(modifier):
+    """The helper objects the modifier reads: (baked, viewport), each None if none."""
+    interface = _inputs_of(modifier)
+    found = []
+    for name in STACK_INPUTS:
+        socket = _input_identifier(modifier, name)
+        if socket is None:
+            found.append(None)
+        else:
+            found.append(getattr(interface, socket).value if interface is not None else modifier.get(socket))
+    return tuple(found)
 
 
 def baked_input(modifier):
-    """The helper object the modifier reads (None if none)."""
-    socket = baked_socket(modifier)
-    interface = getattr(getattr(modifier, "properties", None), "inputs", None)
-    if interface is not None:                              # Blender 5.2: inputs are RNA, not ID properties
-        return getattr(interface, socket).value
-    return modifier.get(socket)
+    """The helper object with the baked surface that the modifier reads (None if none)."""
+    return helper_inputs(modifier)[0]
 
 
-def set_baked_input(modifier, helper, viewport_counts=(0, 0, 0)):
-    """Point the modifier at ``helper``, and give it the viewport surface's counts at the bake."""
-    for name, value in zip(("Baked",) + VIEWPORT_INPUTS, (helper,) + tuple(int(c) for c in viewport_counts)):
+def set_helper_inputs(modifier, baked, viewport=None):
+    """Point the modifier at the helper of the baked surface and that of the viewport's (or None)."""
+    interface = _inputs_of(modifier)
+    for name, value in zip(STACK_INPUTS, (baked, viewport)):
         socket = _input_identifier(modifier, name)
-        interface = getattr(getattr(modifier, "properties", None), "inputs", None)
-        if interface is not None:                          # Blender 5.2: inputs are RNA, not ID properties
+        if socket is None:
+            continue
+        if interface is not None:
             getattr(interface, socket).value = value
         else:
             modifier[socket] = value
 
 
-def viewport_counts(modifier):
-    """The viewport counts the modifier holds."""
-    interface = getattr(getattr(modifier, "properties", None), "inputs", None)
-    identifiers = [_input_identifier(modifier, name) for name in VIEWPORT_INPUTS]
-    if interface is not None:
-        return tuple(getattr(interface, socket).value for socket in identifiers)
-    return tuple(modifier.get(socket, 0) for socket in identifiers)
+def viewport_helper_of(ob):
+    """The helper of the viewport's surface that ``ob``'s Seamless AO modifier reads, or None."""
+    modifier = stack_modifier(ob)
+    return helper_inputs(modifier)[1] if modifier is not None else None
 
 
 def remove_helper(helper):
-    """Remove a helper object and its mesh (once nothing else uses them)."""
+    """Remove a helper object and its mesh (once nothing else uses them); None: nothing."""
+    if helper is None:
+        return
     mesh = helper.data
     bpy.data.objects.remove(helper)
     if mesh is not None and mesh.users == 0:
         bpy.data.meshes.remove(mesh)
 
 
-def helper_name(ob):
-    return HELPER_PREFIX + ob.name
+def helper_name(ob, viewport=False):
+    return HELPER_PREFIX + ob.name + (" viewport" if viewport else "")

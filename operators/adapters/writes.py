@@ -128,31 +128,30 @@ class Transaction:
         self.undo.append(lambda mesh=mesh, active=active, render=render: _restore_active(mesh, active, render))
         _restore_active(mesh, active, render)
 
-    def stack_uv_maps(self, ob, topology, loops, axis_uv, layer_drop, viewport_counts):
+    def stack_uv_maps(self, ob, topology, loops, axis_uv, viewport=None, viewport_uv=None):
         """UV maps AO_X/Y/Z for an object whose stack changes its topology (or whose mesh is shared): a
-        helper holding the baked corners and the maps, and the ``Seamless AO`` modifier, last in the stack,
-        that stores them onto the evaluated mesh (:mod:`.stack`).  A helper from an earlier bake is kept
-        until the commit, so a roll-back puts everything back.
+        helper holding the baked corners and the maps, one for the viewport's surface where its levels
+        differ, and the ``Seamless AO`` modifier, last in the stack, that stores them onto the evaluated mesh
+        (:mod:`.stack`).  Helpers from an earlier bake are kept until the commit, so a roll-back puts
+        everything back.
 
         Parameters
         ----------
         topology : mesh_data.Topology, the evaluated corners the bake saw
         loops : (t, 3) int, the corner of each triangle corner
         axis_uv : three (t, 3 corners, 2), the triangles' UVs in AO_X, AO_Y and AO_Z
-        layer_drop : (t, 3 layers) int, the coordinate each triangle's chart drops in each layer
-        viewport_counts : (points, faces, corners) of the surface the viewport shows (its levels may differ)
+        viewport : mesh_data.Topology of the surface the viewport shows, where it is not ``topology``; or None
+        viewport_uv : (3 layers, its corners, 2), its UVs (:func:`...core.viewport_uv.surface_uv`)
         """
         per_corner = np.zeros((3, len(topology.corner_vert), 2), dtype=np.float32)
-        drop_per_corner = np.zeros((3, len(topology.corner_vert)), dtype=np.int8)
         for axis in range(3):
             per_corner[axis][loops.ravel()] = axis_uv[axis].reshape(-1, 2)
-            drop_per_corner[axis][loops.ravel()] = np.repeat(layer_drop[:, axis], 3)
-        mesh = stack.helper_mesh(stack.helper_name(ob), topology, per_corner, drop_per_corner)
-        helper = bpy.data.objects.new(stack.helper_name(ob), mesh)
-        self.undo.append(lambda helper=helper: stack.remove_helper(helper))
-        old = stack.helper_of(ob)
-        if old is not None and old != helper:
-            self.on_commit.append(lambda old=old: stack.remove_helper(old))
+        helpers = [self._helper(stack.helper_name(ob), topology, per_corner), None]
+        if viewport is not None and viewport_uv is not None:
+            helpers[1] = self._helper(stack.helper_name(ob, viewport=True), viewport, viewport_uv)
+        for old in (stack.helper_of(ob), stack.viewport_helper_of(ob)):
+            if old is not None and old not in helpers:
+                self.on_commit.append(lambda old=old: stack.remove_helper(old))
         modifier = stack.stack_modifier(ob)
         if modifier is None:
             modifier = ob.modifiers.new(STACK_MODIFIER, "NODES")
@@ -160,37 +159,44 @@ class Transaction:
             modifier.use_pin_to_last = True                   # stays last when the artist adds modifiers
             self.undo.append(lambda ob=ob, name=modifier.name: ob.modifiers.remove(ob.modifiers[name]))
         else:
-            self.undo.append(lambda modifier=modifier, old=stack.baked_input(modifier),
-                             counts=stack.viewport_counts(modifier): stack.set_baked_input(modifier, old, counts))
+            stack.stack_group()                               # rebuilt if a bake of an older version made it
+            self.undo.append(lambda modifier=modifier, old=stack.helper_inputs(modifier):
+                             stack.set_helper_inputs(modifier, *old))
             position = list(ob.modifiers).index(modifier)
             if position != len(ob.modifiers) - 1:             # the user added modifiers after it: it goes last
                 ob.modifiers.move(position, len(ob.modifiers) - 1)
                 self.undo.append(lambda ob=ob, name=modifier.name, position=position: ob.modifiers.move(
                     len(ob.modifiers) - 1, position))
-        stack.set_baked_input(modifier, helper, viewport_counts)
+        stack.set_helper_inputs(modifier, *helpers)
         modifier.show_viewport = modifier.show_render = True
-        self.set_property(ob, HELPER_KEY, helper.name)
+        self.set_property(ob, HELPER_KEY, helpers[0].name)
         ob.update_tag()
 
+    def _helper(self, name, topology, layer_uv_per_corner):
+        """A new helper object (in no scene) holding ``topology``'s corners and UV maps; undone by removing it."""
+        helper = bpy.data.objects.new(name, stack.helper_mesh(name, topology, layer_uv_per_corner))
+        self.undo.append(lambda helper=helper: stack.remove_helper(helper))
+        return helper
+
     def drop_stack(self, ob):
-        """Take an earlier bake's modifier and helper off ``ob`` (its stack no longer needs them: the UV maps
+        """Take an earlier bake's modifier and helpers off ``ob`` (its stack no longer needs them: the UV maps
         go on its mesh), undone by putting them back."""
-        modifier, helper = stack.stack_modifier(ob), stack.helper_of(ob)
+        modifier, helpers = stack.stack_modifier(ob), (stack.helper_of(ob), stack.viewport_helper_of(ob))
         if modifier is not None:
             position = list(ob.modifiers).index(modifier)
-            group, baked, pinned = modifier.node_group, stack.baked_input(modifier), modifier.use_pin_to_last
-            counts = stack.viewport_counts(modifier)
+            group, inputs, pinned = modifier.node_group, stack.helper_inputs(modifier), modifier.use_pin_to_last
 
-            def restore(ob=ob, group=group, baked=baked, position=position, pinned=pinned, counts=counts):
+            def restore(ob=ob, group=group, inputs=inputs, position=position, pinned=pinned):
                 again = ob.modifiers.new(STACK_MODIFIER, "NODES")
                 again.node_group = group
-                stack.set_baked_input(again, baked, counts)
+                stack.set_helper_inputs(again, *inputs)
                 ob.modifiers.move(len(ob.modifiers) - 1, position)
                 again.use_pin_to_last = pinned
             ob.modifiers.remove(modifier)
             self.undo.append(restore)
-        if helper is not None:
-            self.on_commit.append(lambda helper=helper: stack.remove_helper(helper))
+        for helper in helpers:
+            if helper is not None:
+                self.on_commit.append(lambda helper=helper: stack.remove_helper(helper))
         if ob.get(HELPER_KEY) is not None:
             old = ob[HELPER_KEY]
             del ob[HELPER_KEY]

@@ -17,9 +17,9 @@ from ..adapters.casters import caster_maker, free_casters
 def main(argv):
     folder = argv[0]
     try:
-        meshes, matrices, occluders, settings = read_job(folder)
+        meshes, matrices, occluders, settings, shown = read_job(folder)
         pipeline = BakePipeline(meshes, matrices, settings, caster_maker(settings),
-                                lambda part, *_: occluders[part], free_casters)
+                                lambda part, *_: occluders[part], free_casters, shown)
         for fraction, message in pipeline.steps():
             write_progress(folder, fraction, message)
         write_outcome(folder, pipeline.result, len(meshes))

@@ -38,11 +38,11 @@ def lower_priority(command):
 class BackgroundBake:
     """One bake running in a process of its own; see the module's docstring."""
 
-    def __init__(self, meshes, matrices, occluders, settings):
+    def __init__(self, meshes, matrices, occluders, settings, shown=None):
         self.folder = tempfile.mkdtemp(prefix="seamless_ao_bake_")
         self.process = None
         try:
-            write_job(self.folder, meshes, matrices, occluders, settings)
+            write_job(self.folder, meshes, matrices, occluders, settings, shown)
             self.log_path = os.path.join(self.folder, "log.txt")
             command, keywords = lower_priority(process_command("bake-worker", self.folder))
             with open(self.log_path, "w", encoding="utf-8") as log:

@@ -3,7 +3,7 @@
     .venv/5.0/bin/python tests/bench/bench_viewport.py [--points 1500] [--rays 1024]
 
 Suzanne with a Subdivision modifier, baked at the defaults (the render's level is baked); what the
-material shows on the viewport's surface (UV maps from the nearest baked face's chart,
+material shows on the viewport's surface (its own UV maps, each face read through one baked chart,
 ``core/viewport_uv.py``) at ``--points`` visible points, against the plain reference
 (``tests/support/plain_reference.py``, ``--rays`` rays) on the viewport's own surface, and against a
 perfect transfer: the plain reference of the render's surface at the nearest points. The last column is

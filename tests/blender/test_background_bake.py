@@ -11,6 +11,7 @@ from package import seamless_ao
 
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.handoff import read_job, write_job
+from seamless_ao.operators.adapters.stack import viewport_helper_of
 from seamless_ao.core.mesh import TriangleMesh
 from seamless_ao.core.settings import BakeSettings
 from seamless_ao.operators.adapters.session import BakeSession
@@ -31,8 +32,8 @@ def suzanne_on_a_plane():
 
 
 def written(session, objects):
-    """The image's pixels and every UV map the bake wrote (the plane's on its mesh; Suzanne's through the
-    stack's helper)."""
+    """The image's pixels and every UV map the bake wrote (the plane's on its mesh; the UV maps of the
+    viewport's surface of Suzanne, whose Subdivision levels differ, on the stack's viewport helper)."""
     image = bpy.data.images[session.report.image]
     pixels = np.empty(len(image.pixels), dtype=np.float32)
     image.pixels.foreach_get(pixels)
@@ -41,6 +42,11 @@ def written(session, objects):
     for name in ("AO_X", "AO_Y", "AO_Z"):
         objects[1].data.uv_layers[name].data.foreach_get("uv", uv)
         maps.append(uv.copy())
+    shown = viewport_helper_of(objects[0]).data
+    for name in ("AO_X", "AO_Y", "AO_Z"):
+        uv = np.empty(2 * len(shown.loops))
+        shown.uv_layers[name].data.foreach_get("uv", uv)
+        maps.append(uv)
     return pixels, maps
 
 
@@ -98,8 +104,10 @@ def test_a_job_reads_back_as_it_was_written(tmp_path):
     rng = np.random.default_rng(5)
     mesh = TriangleMesh.from_triangles(rng.random((30, 3)), rng.integers(0, 30, (40, 3)))
     occluders = [[(rng.random((4, 3)), np.array([[0, 1, 2], [1, 2, 3]]))]]
-    write_job(str(tmp_path), [mesh], [np.eye(4) * 2.0], occluders, SETTINGS)
-    meshes, matrices, near, settings = read_job(str(tmp_path))
+    surface = (rng.random((6, 3)), np.array([0, 1, 2, 3, 2, 1, 4, 5]), np.array([0, 4]))
+    write_job(str(tmp_path), [mesh, mesh], [np.eye(4) * 2.0] * 2, occluders * 2, SETTINGS, [None, surface])
+    meshes, matrices, near, settings, shown = read_job(str(tmp_path))
+    assert shown[0] is None and all(np.array_equal(a, b) for a, b in zip(shown[1], surface))
     for name in ("positions", "triangles", "triangle_face", "corner_normals", "stray", "triangle_area"):
         assert np.array_equal(getattr(meshes[0], name), getattr(mesh, name)), name
     assert meshes[0].face_count == mesh.face_count and meshes[0].scale == mesh.scale

@@ -4,7 +4,7 @@ import numpy as np
 
 from package import seamless_ao  # noqa: F401  (imports the add-on as ``seamless_ao``)
 
-from seamless_ao.core.viewport_uv import face_uv_maps
+from seamless_ao.core.viewport_uv import face_uv_maps, fan_triangles, surface_uv
 
 
 def quads_and_triangles(rng, faces=40):
@@ -57,3 +57,48 @@ def test_a_face_edge_on_to_its_chart_gets_a_flat_finite_map():
     assert np.isfinite(linear).all() and np.isfinite(offset).all()
     shown = np.einsum("rc,kc->kr", linear[0, 0], positions) + offset[0, 0]
     assert np.abs(shown - uv[0]).max() <= 0.11
+
+
+def two_charts_side_by_side():
+    """A baked strip in the plane z = 0: quad A (x in [0, 1]) and quad B (x in [1, 2]), each in its own chart
+    (x, y projected, far apart in the image); returns the baked arrays and each chart's map."""
+    positions = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], dtype=np.float64)
+    corner_vert = np.array([0, 1, 2, 3, 1, 4, 5, 2])
+    loop_start = np.array([0, 4])
+    maps = {"A": lambda p: 0.1 + 0.2 * p[..., :2], "B": lambda p: np.array([0.6, 0.1]) + 0.2 * (p[..., :2] - [1, 0])}
+    uv = np.concatenate([maps["A"](positions[corner_vert[:4]]), maps["B"](positions[corner_vert[4:]])])
+    return (positions, corner_vert, loop_start), np.tile(uv, (3, 1, 1)), np.full((3, 8), 2), maps
+
+
+def test_a_face_within_one_chart_reads_that_chart_at_its_corners():
+    baked, uv, drop, maps = two_charts_side_by_side()
+    shown = (np.array([[0.2, 0.2, 0.05], [0.8, 0.2, 0.05], [0.8, 0.8, 0.05], [0.2, 0.8, 0.05]]), np.arange(4),
+             np.array([0]))
+    out = surface_uv(baked, uv, drop, shown, (256, 256))
+    assert out.shape == (3, 4, 2) and out.dtype == np.float32
+    for layer in range(3):
+        np.testing.assert_allclose(out[layer], maps["A"](shown[0]), atol=1e-6)
+
+
+def test_a_face_across_two_charts_reads_one_and_its_edge_past_it():
+    """Corners held by the chart of most corners read it; the corner past its edge reads the edge (x = 1)
+    instead of texels of the image that belong to another chart or to none."""
+    baked, uv, drop, maps = two_charts_side_by_side()
+    shown_positions = np.array([[0.3, 0.2, 0.0], [0.6, 0.2, 0.0], [1.7, 0.5, 0.0], [0.3, 0.8, 0.0]])
+    shown = (shown_positions, np.arange(4), np.array([0]))
+    out = surface_uv(baked, uv, drop, shown, (256, 256))
+    held = [0, 1, 3]
+    np.testing.assert_allclose(out[0, held], maps["A"](shown_positions[held]), atol=1e-6)
+    inside = shown_positions[held].mean(axis=0)
+    # the edge point lies on the segment from the held corners' centre to the far corner, where x = 1
+    along = (1.0 - inside[0]) / (shown_positions[2, 0] - inside[0])
+    edge = inside + along * (shown_positions[2] - inside)
+    np.testing.assert_allclose(out[0, 2], maps["A"](edge), atol=0.2 * 2.0 ** -8 + 1e-6)
+    assert np.isfinite(out).all() and (out >= 0).all() and (out <= 1).all()
+
+
+def test_fan_triangles_cut_each_face_from_its_first_corner():
+    corner_vert = np.array([0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11])    # a quad, a pentagon, a triangle
+    triangles, triangle_face = fan_triangles(corner_vert, np.array([0, 4, 9]))
+    np.testing.assert_array_equal(triangle_face, [0, 0, 1, 1, 1, 2])
+    np.testing.assert_array_equal(triangles, [[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7], [4, 7, 8], [9, 10, 11]])
