@@ -180,7 +180,7 @@ class BakeSettings(_Settings):
 
     # -- output ------------------------------------------------------------------
     hook_materials: bool = _setting(
-        True, "Multiply Into Materials",
+        True, "Multiply Base Color",
         "Multiply the AO into the Base Color of every Principled BSDF (off: only add the nodes)")
     save_image: str = _setting("NONE", "Save Image", "Also write the image to a file next to the .blend", items=SAVE_ITEMS)
 

@@ -100,7 +100,7 @@ class VIEW3D_PT_seamless_ao_occluders(SubPanel, bpy.types.Panel):
     settings = ("use_scene_occluders", "use_ground_plane", "ignore_backfaces", "horizon_bias", "ray_caster")
 
     def draw(self, context):
-        super().draw(context)
+        SubPanel.draw(self, context)
         line = automatic_caster_line(context.scene.seamless_ao)
         if line:
             wrapped_labels(self.layout, context, line, icon="INFO")

@@ -34,16 +34,21 @@ def wrap_words(text, fits):
     return lines
 
 
+def ui_scale(context):
+    """The interface's scale (1 where Blender runs without a window and gives 0)."""
+    return context.preferences.system.ui_scale or 1.0
+
+
 def text_width_px(context, text):
     """Width in pixels of ``text`` in the interface's label font at the interface's scale."""
-    scale = context.preferences.system.ui_scale
+    scale = ui_scale(context)
     blf.size(0, context.preferences.ui_styles[0].widget.points * scale)
     return blf.dimensions(0, text)[0]
 
 
 def label_width_px(context, in_box=False, icon=False):
     """Pixels a label has for its text in this region (the sidebar, at its present width)."""
-    scale = context.preferences.system.ui_scale
+    scale = ui_scale(context)
     units = MARGIN_UNITS + (0.5 if in_box else 0.0) + (1.0 if icon else 0.0)
     return context.region.width - units * UI_UNIT * scale
 

@@ -1,11 +1,15 @@
 """Issue 51: no sentence of the sidebar is cut off ("The modifiers here ...than the one baked."), and the
 Last bake box pairs each label with its value."""
 
+import types
+
 import blf
 import bpy
 
 from package import seamless_ao
+from panel_fit import DEFAULT_SIDEBAR_WIDTH, cut_texts
 
+from seamless_ao.panels import sidebar
 from seamless_ao.panels.sidebar import last_bake_rows
 from seamless_ao.panels.text import wrap_words
 
@@ -32,3 +36,27 @@ def test_the_last_bake_box_pairs_each_label_with_its_value(addon):
     settings.last_bake_utilisation, settings.last_bake_noise = 0.76, 0.01
     assert last_bake_rows(settings) == [("Time", "33.5 s"), ("Texels", "836,482"), ("Rays", "53,012,032"),
                                         ("Atlas use", "76%"), ("Noise (raw, 1σ)", "≈ 0.010")]
+
+
+def test_every_text_of_every_panel_fits_the_default_sidebar(addon):
+    """Labels, buttons, settings' names and every choice of their menus, at the sidebar's default width, with
+    the Last bake box at large figures (tests/support/panel_fit.py)."""
+    settings = bpy.context.scene.seamless_ao
+    settings.last_bake_summary, settings.last_bake_rays, settings.last_bake_texels = "baked", 53012032, 836482
+    assert cut_texts(sidebar, DEFAULT_SIDEBAR_WIDTH) == []
+
+
+def test_the_fit_check_finds_a_cut_button(addon):
+    """What the Clear button once said does not fit its half row (Blender showed "Clear Seamless...")."""
+    class Once(bpy.types.Panel):
+        bl_label = "Once"
+
+        def draw(self, context):
+            row = self.layout.row(align=True)
+            row.operator("object.seamless_ao_clear", icon="TRASH")
+            row.prop(context.scene.seamless_ao, "preview", toggle=True, icon="HIDE_OFF")
+
+    once = types.ModuleType(sidebar.__name__.rsplit(".", 1)[0] + ".once")
+    once.Once = Once
+    assert bpy.types.OBJECT_OT_seamless_ao_clear.bl_label == "Clear Seamless AO"
+    assert [text for _, text, _, _ in cut_texts(once, DEFAULT_SIDEBAR_WIDTH)] == ["Clear Seamless AO"]

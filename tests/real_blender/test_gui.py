@@ -12,6 +12,7 @@ import shutil
 import numpy as np
 import pytest
 
+from panel_fit import DEFAULT_SIDEBAR_WIDTH
 from real_blender import REPO
 
 SCRIPTS = REPO / "tests" / "scripts"
@@ -50,6 +51,15 @@ def test_the_bake_button_bakes_on_timer_events_and_says_one_short_sentence(artis
     ours = [line for line in bake["reports"] if "Seamless AO" in line]
     assert ours and ours[-1].startswith("Seamless AO baked") and len(ours[-1]) <= 60, bake["reports"]
     assert not any("Baking map" in line for line in bake["reports"]), "Cycles' messages reach the user"
+
+
+def test_no_text_of_the_sidebar_is_cut_at_its_default_width(artist):
+    """Every label, button, setting name and menu choice of every panel, measured with Blender's own font in
+    the window's sidebar after a bake (Last bake box shown); the width is the one the bpy-wheel test
+    assumes (tests/support/panel_fit.py)."""
+    bake = artist[0]["bake"]
+    assert bake["cut"] == [], bake["cut"]
+    assert abs(bake["sidebar_width"] / bake["ui_scale"] - DEFAULT_SIDEBAR_WIDTH) <= 2, bake
 
 
 def test_no_redo_panel_after_a_bake_and_one_after_clear(artist):

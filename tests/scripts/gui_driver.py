@@ -23,6 +23,9 @@ import traceback
 
 import bpy
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "support"))
+import panel_fit  # noqa: E402
+
 SCENARIO, OUT, ZIP = sys.argv[sys.argv.index("--") + 1:][:3]
 TICK = 0.05
 result = {"steps": []}
@@ -162,6 +165,17 @@ def header_rows(below):
 
 # -- what the tests compare -----------------------------------------------------------------------
 
+def cut_in_the_sidebar():
+    """The sidebar's width, the interface's scale, and the texts of the installed extension's panels that
+    do not fit that width (``tests/support/panel_fit.py``)."""
+    area, _, ui = regions()
+    sidebar = next(module for name, module in sys.modules.items()
+                   if name.startswith("bl_ext.") and name.endswith(".panels.sidebar"))
+    with bpy.context.temp_override(area=area, region=ui):
+        return {"sidebar_width": ui.width, "ui_scale": bpy.context.preferences.system.ui_scale,
+                "cut": panel_fit.cut_texts(sidebar, ui.width, context=bpy.context)}
+
+
 def fingerprint():
     """Every datablock a bake could touch, by name, with the UV maps, attributes and material nodes."""
     return {"objects": sorted(bpy.data.objects.keys()), "images": sorted(bpy.data.images.keys()),
@@ -251,7 +265,7 @@ def artist():
     seconds, runs, longest = yield from wait_for_bake()
     step("bake", seconds=seconds, timer_runs=runs, longest_freeze=longest, plane_uv=plane.data.uv_layers.keys(),
          image=plane.get("seamless_ao_image"), last_bake_time=settings.last_bake_time,
-         redo_panel=redo_panel_shown(),
+         redo_panel=redo_panel_shown(), **cut_in_the_sidebar(),
          reports=recent_reports(), screenshot=shot("baked"))
 
     before = fingerprint()
