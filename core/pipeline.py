@@ -144,6 +144,9 @@ class BakePipeline:
             # a caster that bakes whole texels but had too few rays to be given any cast them all as its pilot
             first = self.parts[0].caster
             caster = first.name if job.whole_parts.any() else getattr(first, "pilot_name", first.name)
+            # what a caster has to tell the user (the Cycles caster: the GPU it was asked for was not there)
+            caster_warnings = list(dict.fromkeys(
+                warning for part in self.parts for warning in getattr(part.caster, "warnings", ())))
             self.free()
             ao = job.ao
             seen = job.computed & ~job.buried
@@ -161,7 +164,7 @@ class BakePipeline:
                 layout=layout, image=texel_image(layout.texels, ao, job.computed), texel_ao=ao,
                 computed=job.computed, buried=job.buried, ray_count=job.ray_count, texels=job.total,
                 rays=job.rays_cast, noise=noise, caster=caster, timings=dict(layout.timings, rays=job.seconds),
-                warnings=list(layout.atlas.warnings))
+                warnings=list(layout.atlas.warnings) + caster_warnings)
             if any(surface is not None for surface in self.shown):
                 yield 0.97, "UV maps for the viewport's surface"
                 start = time.perf_counter()

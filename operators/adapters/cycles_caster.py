@@ -27,6 +27,7 @@ import numpy as np
 from ...core.ao import ray_origins
 from ...core.errors import SeamlessAOError
 from ...core.keys import TEMP_PREFIX
+from .cycles_device import cycles_device
 from .mesh_data import mesh_from_triangles
 
 #: Half-size of each texel's triangle, relative to the ray origin offset (far below a texel, and the
@@ -94,6 +95,21 @@ class CyclesAmbientOcclusion:
         origins, geometric = ray_origins(points, normals, geometric, params.offset)
         corners = texel_triangles(origins, normals, geometric, TRIANGLE_SIZE * params.offset)
         uv, height = pixel_uv(count, IMAGE_WIDTH)
+        if getattr(self, "device", None) is None:
+            self.device, warning = cycles_device()
+            self.warnings = [warning] if warning else []
+        try:
+            return self._bake(corners, uv, height, count, samples, params)
+        except SeamlessAOError as error:
+            if self.device != "GPU":
+                raise
+            # out of GPU memory, a driver fault: the CPU bakes it, and the report says so
+            self.device = "CPU"
+            self.warnings.append("Cycles could not bake on the GPU ({}): it baked on the CPU".format(error))
+            return self._bake(corners, uv, height, count, samples, params)
+
+    def _bake(self, corners, uv, height, count, samples, params):
+        """Cycles' AO bake of the texels' tiny triangles ``corners`` into one image row by row."""
         made = []
         try:
             mesh = _keep(made, mesh_from_triangles(TEMP_PREFIX + "texels", corners.reshape(-1, 3),
@@ -143,7 +159,7 @@ class CyclesAmbientOcclusion:
             scene.world = self._keep(bpy.data.worlds.new(TEMP_PREFIX + "world"))
         scene.world.light_settings.distance = float(params.max_distance)
         cycles = scene.cycles
-        cycles.device = "CPU"
+        cycles.device = self.device                     # the user's, from Cycles' preferences (.cycles_device)
         cycles.samples = int(samples)
         cycles.seed = int(params.seed) & 0x7FFFFFFF
         cycles.use_animated_seed = False

@@ -10,6 +10,8 @@ import sys
 
 import bpy
 
+from .cycles_device import environment_entry
+
 PACKAGE_ROOT = pathlib.Path(__file__).resolve().parents[2]
 #: What such a process runs: this package loaded from its folder under a name of its own (so an installed
 #: copy is never registered twice), then the entry point named first in its arguments.
@@ -38,8 +40,10 @@ def process_environment(scratch):
 
     The process has factory settings, in which no extension is enabled; were the user's extension folder its
     own, Blender's wheel upkeep (run by any factory reset) would delete the wheels of every extension it
-    sees disabled there, this one's among them, from under the user's Blender and the other processes."""
+    sees disabled there, this one's among them, from under the user's Blender and the other processes.  For
+    the same reason it would see no GPU in Cycles' preferences: this process's go with it
+    (:mod:`.cycles_device`)."""
     environment = {name: value for name, value in os.environ.items() if name not in USER_FOLDER_VARIABLES}
     paths = [p for p in sys.path if p and os.path.isdir(p)]
     return dict(environment, BLENDER_USER_RESOURCES=os.path.join(scratch, "blender_user"),
-                SEAMLESS_AO_PATHS=os.pathsep.join(paths))
+                SEAMLESS_AO_PATHS=os.pathsep.join(paths), **environment_entry())

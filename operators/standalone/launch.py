@@ -12,7 +12,9 @@ extension) folder under a name of its own, so an installed copy is never
 registered twice, and hands the rest of the command line to
 :mod:`.command`, :mod:`.demo` or the batch worker.  Folders listed in the
 environment variable ``SEAMLESS_AO_PATHS`` are added to ``sys.path`` first
-(a batch passes its own, where Blender's extension wheels live).
+(a batch passes its own, where Blender's extension wheels live), and the
+Cycles device preference of the process that started this one is taken
+(:mod:`..adapters.cycles_device`).
 
 The process ends with ``os._exit``: the bpy 4.2 *module* crashes in
 interpreter teardown once a PropertyGroup was registered.
@@ -54,6 +56,7 @@ def main(argv):
         if entry and entry not in sys.path:
             sys.path.append(entry)
     load_package()
+    importlib.import_module(NAME + ".operators.adapters.cycles_device").apply_from_environment()
     return importlib.import_module(NAME + "." + ENTRY_POINTS[argv[0]]).main(argv[1:])
 
 
