@@ -26,12 +26,13 @@ from ...core.keys import IMAGE_KEY
 from ...core.pipeline import BakePipeline
 from ...core.rays import world_reach
 from ...core.settings import BakeSettings
+from ...core.viewport_uv import stands_off
 from ..background.client import BackgroundBake
 from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
 from .mesh_data import Topology, read_object, render_evaluation, scene_occluders, world_boxes
 from .scene_settings import settings_from
-from .writes import Transaction, image_file_path, save_image_file
+from .writes import Transaction, corner_uv, image_file_path, save_image_file
 
 
 @dataclasses.dataclass
@@ -47,6 +48,8 @@ class BakedObject:
     topology: Topology
     through_stack: bool
     viewport: Topology = None   # the surface the viewport evaluates, where its levels give another one
+    viewport_part: int = None   # that surface's mesh in the pipeline, where it is baked too (it stands off)
+    viewport_loops: np.ndarray = None   # (t, 3) int64, its corner of each of its triangles' corners
 
 
 #: What the bake report calls each caster (by its ``name``): with Ray Caster Automatic it says which one baked.
@@ -123,7 +126,7 @@ class BakeSession:
             else:
                 # Each part's occluders were read and culled to its ray reach in _read_meshes (the depsgraph is
                 # only at hand there), so the pipeline's (low, high, reach) arguments are not needed again.
-                self.pipeline = BakePipeline(meshes, [b.matrix for b in self.baked], self.settings,
+                self.pipeline = BakePipeline(meshes, self.matrices, self.settings,
                                              caster_maker(self.settings), lambda part, *_: occluders[part],
                                              free_casters, self._shown())
                 yield from self.pipeline.steps()
@@ -142,14 +145,17 @@ class BakeSession:
             self.cancel()
 
     def _shown(self):
-        """Per baked object, the viewport's surface where it is not the one baked (else None), as arrays."""
-        return [(b.viewport.positions, b.viewport.corner_vert, b.viewport.loop_start) if b.viewport else None
-                for b in self.baked]
+        """Per pipeline mesh, the viewport's surface where it is not the one baked and not baked itself (its
+        UVs then come from the baked one's charts), as arrays; else None."""
+        shown = [None] * len(self.matrices)
+        for part, b in enumerate(self.baked):
+            if b.viewport is not None and b.viewport_part is None:
+                shown[part] = (b.viewport.positions, b.viewport.corner_vert, b.viewport.loop_start)
+        return shown
 
     def _steps_in_background(self, meshes, occluders):
         """The pipeline in a process of its own (:mod:`..background.client`); returns its outcome."""
-        self.process = BackgroundBake(meshes, [b.matrix for b in self.baked], occluders, self.settings,
-                                      self._shown())
+        self.process = BackgroundBake(meshes, self.matrices, occluders, self.settings, self._shown())
         while (state := self.process.poll()) is not None:
             yield state
         return self.process.outcome()
@@ -200,11 +206,21 @@ class BakeSession:
             for ob, mesh, part in zip(self.objects, meshes, baked):
                 occluders.append(scene_occluders(boxes, ob, *world_reach(mesh, part.matrix, self.settings))
                                  if boxes is not None else [])
+        self.matrices = [part.matrix for part in baked]
         depsgraph = bpy.context.evaluated_depsgraph_get()       # as the viewport evaluates it, levels and all
-        for part in baked:
-            if part.through_stack:
-                shown = Topology.of(part.ob.evaluated_get(depsgraph).data)
-                part.viewport = shown if shown.counts() != part.topology.counts() else None
+        for index, part in enumerate(baked):
+            if not part.through_stack:
+                continue
+            shown, loops, topology, _ = read_object(part.ob, depsgraph)
+            if topology.counts() == part.topology.counts():
+                continue
+            part.viewport = topology
+            if stands_off(meshes[index].positions, meshes[index].triangles, shown.positions):
+                # a Subdivision cage: its own AO, baked as one more piece of the atlas, with its own rays
+                part.viewport_part, part.viewport_loops = len(meshes), loops
+                meshes.append(shown)
+                occluders.append(occluders[index])
+                self.matrices.append(part.matrix)
         self.fingerprints = [mesh_fingerprint(ob) for ob in self.objects]
         return meshes, baked, occluders
 
@@ -231,8 +247,12 @@ class BakeSession:
             for part, baked in enumerate(self.baked):
                 part_uv = result.part_axis_uv(part)
                 if baked.through_stack:
+                    viewport_uv = result.part_shown_uv(part)
+                    if baked.viewport_part is not None:
+                        viewport_uv = corner_uv(len(baked.viewport.corner_vert), baked.viewport_loops,
+                                                result.part_axis_uv(baked.viewport_part))
                     transaction.stack_uv_maps(baked.ob, baked.topology, baked.loops, part_uv, baked.viewport,
-                                              result.part_shown_uv(part))
+                                              viewport_uv)
                 else:
                     transaction.drop_stack(baked.ob)
                     transaction.uv_maps(baked.ob.data, baked.loops, part_uv)

@@ -21,6 +21,15 @@ from . import stack
 from .mesh_data import read_uv, write_uv
 
 
+def corner_uv(corner_count, loops, axis_uv):
+    """(3 layers, corner_count, 2) float32: the triangles' UVs ``axis_uv`` (three (t, 3, 2)) on the mesh's
+    corners, ``loops`` (t, 3) saying which corner each triangle corner is."""
+    per_corner = np.zeros((3, corner_count, 2), dtype=np.float32)
+    for axis in range(3):
+        per_corner[axis][loops.ravel()] = axis_uv[axis].reshape(-1, 2)
+    return per_corner
+
+
 class Transaction:
     """Writes into Blender data, each with the action that undoes it."""
 
@@ -143,9 +152,7 @@ class Transaction:
         viewport : mesh_data.Topology of the surface the viewport shows, where it is not ``topology``; or None
         viewport_uv : (3 layers, its corners, 2), its UVs (:func:`...core.viewport_uv.surface_uv`)
         """
-        per_corner = np.zeros((3, len(topology.corner_vert), 2), dtype=np.float32)
-        for axis in range(3):
-            per_corner[axis][loops.ravel()] = axis_uv[axis].reshape(-1, 2)
+        per_corner = corner_uv(len(topology.corner_vert), loops, axis_uv)
         helpers = [self._helper(stack.helper_name(ob), topology, per_corner), None]
         if viewport is not None and viewport_uv is not None:
             helpers[1] = self._helper(stack.helper_name(ob, viewport=True), viewport, viewport_uv)

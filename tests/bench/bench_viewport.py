@@ -3,12 +3,15 @@
     .venv/5.0/bin/python tests/bench/bench_viewport.py [--points 1500] [--rays 1024]
 
 Suzanne with a Subdivision modifier, baked at the defaults (the render's level is baked); what the
-material shows on the viewport's surface (its own UV maps, each face read through one baked chart,
-``core/viewport_uv.py``) at ``--points`` visible points, against the plain reference
+material shows on the viewport's surface at ``--points`` visible points, against the plain reference
 (``tests/support/plain_reference.py``, ``--rays`` rays) on the viewport's own surface, and against a
-perfect transfer: the plain reference of the render's surface at the nearest points. The last column is
+perfect transfer: the plain reference of the render's surface at the nearest points. The next column is
 how far apart those two references are: no AO read from the render's surface can come nearer the
-viewport's own than that.
+viewport's own than that. At viewport level 1 the viewport's surface reads the render's charts through
+UV maps of its own (``core/viewport_uv.py``); a cage (level 0) stands off the render's surface, and is
+baked too, in the same image. The last columns: what the render shows on its own surface against its
+plain reference, in that bake and in a bake of the same object with the viewport at the render's level
+(nothing more to bake), at ``--points`` visible points of the render's surface.
 """
 
 import argparse
@@ -46,16 +49,23 @@ def main():
         subdivision.levels = render
         rendered = evaluated_surface(ob)
         transfer = reference_ao(ob, rendered, *nearest_on(rendered, points), rays=args.rays)
+        at_render = []
+        for again in (False, True):
+            if again:                                  # the same object baked with nothing more to bake
+                image = bpy.data.images[seamless_ao.bake([ob]).image]
+            shown_render, render_mesh, *where = shown_on_the_evaluated_surface(ob, image, count=args.points)
+            at_render.append(errors(shown_render, reference_ao(ob, render_mesh, *where, rays=args.rays)))
         rows.append([viewport, render, len(mesh.triangles), len(rendered.triangles),
                      *("{:.4f} / {:.3f}".format(*errors(a, b)) for a, b in
-                       ((shown, own), (shown, transfer), (transfer, own)))])
+                       ((shown, own), (shown, transfer), (transfer, own))),
+                     *("{:.4f} / {:.3f}".format(*pair) for pair in at_render)])
     say("Suzanne, Subdivision at two levels, baked at the defaults; RMSE / 99th percentile of the absolute "
-        "error at {} visible points of the viewport's surface, references with {} rays".format(args.points,
-                                                                                               args.rays))
+        "error at {} visible points of each surface, references with {} rays".format(args.points, args.rays))
     say()
     say(markdown_table(["viewport level", "render level", "viewport triangles", "render triangles",
                         "shown vs viewport's own AO", "shown vs perfect transfer",
-                        "perfect transfer vs viewport's own AO"], rows))
+                        "perfect transfer vs viewport's own AO", "render's surface, this bake",
+                        "render's surface, viewport at the render's level"], rows))
 
 
 if __name__ == "__main__":

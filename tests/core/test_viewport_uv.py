@@ -4,7 +4,7 @@ import numpy as np
 
 from package import seamless_ao  # noqa: F401  (imports the add-on as ``seamless_ao``)
 
-from seamless_ao.core.viewport_uv import face_uv_maps, fan_triangles, surface_uv
+from seamless_ao.core.viewport_uv import face_uv_maps, fan_triangles, stands_off, surface_uv
 
 
 def quads_and_triangles(rng, faces=40):
@@ -102,3 +102,13 @@ def test_fan_triangles_cut_each_face_from_its_first_corner():
     triangles, triangle_face = fan_triangles(corner_vert, np.array([0, 4, 9]))
     np.testing.assert_array_equal(triangle_face, [0, 0, 1, 1, 1, 2])
     np.testing.assert_array_equal(triangles, [[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7], [4, 7, 8], [9, 10, 11]])
+
+
+def test_a_cage_stands_off_the_surface_it_gives_and_points_on_it_do_not():
+    """A unit square at z = 0 as two triangles: its own corners lie on it, a copy lifted by 2% of its
+    diagonal stands off it (a Subdivision cage stands off its surface by about 1.3% of Suzanne's)."""
+    positions = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]])
+    triangles = np.array([[0, 1, 2], [0, 2, 3]])
+    assert not stands_off(positions, triangles, positions)
+    assert not stands_off(positions, triangles, positions + [0.0, 0.0, 1e-5])
+    assert stands_off(positions, triangles, positions + [0.0, 0.0, 0.02 * np.sqrt(2.0)])
