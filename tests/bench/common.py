@@ -68,9 +68,36 @@ def say(text=""):
 
 
 def machine():
-    """This machine and Blender, in one phrase."""
-    return "{} ({} cores), Blender {}".format(platform.processor() or platform.machine(), os.cpu_count(),
-                                             bpy.app.version_string)
+    """This machine, Blender and the device Cycles bakes on, in one phrase."""
+    return "{} ({} cores), Blender {}, {}".format(platform.processor() or platform.machine(), os.cpu_count(),
+                                                 bpy.app.version_string, cycles_device_phrase())
+
+
+def cycles_device_phrase():
+    """Where Cycles bakes (ours and Blender's own route alike), as Cycles' preferences say."""
+    from seamless_ao.operators.adapters.cycles_device import cycles_device
+    if cycles_device()[0] == "CPU":
+        return "Cycles on the CPU"
+    preferences = bpy.context.preferences.addons["cycles"].preferences
+    return "Cycles on {} ({})".format(preferences.compute_device_type, ", ".join(
+        device.name for device in preferences.devices if device.use and device.type != "CPU"))
+
+
+def use_gpu(kind):
+    """Set Cycles' preferences as a user with GPUs of type ``kind`` (CUDA, OPTIX, HIP, ONEAPI, METAL) would:
+    every such device on.  Both bakers' Cycles then bake on them; ends the benchmark with a sentence where
+    this machine has none."""
+    from seamless_ao.operators.adapters.cycles_device import apply_device_preference
+    preferences = bpy.context.preferences.addons["cycles"].preferences
+    try:
+        preferences.compute_device_type = kind
+    except TypeError:
+        raise SystemExit("this Blender's Cycles knows no device type {!r}".format(kind))
+    preferences.refresh_devices()
+    found = [device.id for device in preferences.devices if device.type == kind]
+    if not found:
+        raise SystemExit("no {} device on this machine: the benchmark would run on the CPU".format(kind))
+    apply_device_preference({"type": kind, "use": found})
 
 
 def commit():

@@ -4,6 +4,9 @@ import time
 
 import bpy
 
+import package  # noqa: F401  (imports the add-on as ``seamless_ao``)
+from seamless_ao.operators.adapters.cycles_device import cycles_device
+
 UV_NAME = "CyclesAO"
 
 
@@ -57,7 +60,7 @@ def cycles_ao_bake(ob, size, samples, distance, margin=16):
     target.image = image
     nodes.active = target
     scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
+    scene.cycles.device = cycles_device()[0]             # the device Cycles' preferences name, as ours
     scene.cycles.samples = samples
     scene.cycles.use_denoising = False
     if scene.world is None:

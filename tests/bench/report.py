@@ -1,6 +1,6 @@
 """Speed against error: Seamless AO and Blender's own route (Smart UV Project + Cycles AO bake).
 
-    .venv/5.0/bin/python tests/bench/report.py [--meshes suzanne dense scan interior] [--runs 3]
+    .venv/5.0/bin/python tests/bench/report.py [--meshes suzanne dense scan interior] [--runs 3] [--gpu TYPE]
 
 For each mesh it computes the plain reference (tests/support/plain_reference.py: no
 code shared with either baker) at random visible surface points with many
@@ -43,7 +43,7 @@ import time
 
 import numpy as np
 
-from common import PAGES, finish, markdown_table, say
+from common import PAGES, finish, markdown_table, say, use_gpu
 
 import bpy
 
@@ -369,7 +369,11 @@ def main():
     parser.add_argument("--runs", type=int, default=3, help="timed runs of each setting (the median is reported)")
     parser.add_argument("--plot-only", action="store_true",
                         help="redraw the plot and print the time-to-error table from curves.json")
+    parser.add_argument("--gpu", metavar="TYPE", help="both bakers' Cycles on every GPU of this type (CUDA, "
+                        "OPTIX, HIP, ONEAPI, METAL), as Cycles' preferences would set it; default: the CPU")
     args = parser.parse_args()
+    if args.gpu:
+        use_gpu(args.gpu)
     out = pathlib.Path(args.output_dir).resolve()
     work = pathlib.Path(args.work_dir).resolve()
     if args.plot_only:
