@@ -59,7 +59,7 @@ def write_job(folder, meshes, matrices, occluders, settings, shown=None):
     Parameters
     ----------
     folder : str, an existing folder
-    meshes : list of TriangleMesh
+    meshes : list of TriangleMesh or MeshArrays (read as it was: the process works out the rest)
     matrices : list of (4, 4) float, world matrices
     occluders : list (one per mesh) of lists of ``(positions (v, 3) float64, triangles (t, 3) int64)``,
         world geometry near that mesh
@@ -79,6 +79,7 @@ def write_job(folder, meshes, matrices, occluders, settings, shown=None):
             _save(folder, "occluder{}_{}_positions".format(part, number), positions)
             _save(folder, "occluder{}_{}_triangles".format(part, number), triangles)
     _write_json(folder, JOB, {"settings": dataclasses.asdict(settings), "face_counts": [m.face_count for m in meshes],
+                              "sanitised": [isinstance(m, TriangleMesh) for m in meshes],
                               "occluders": [len(near) for near in occluders],
                               "shown": [surface is not None for surface in shown]})
 
@@ -90,7 +91,8 @@ def read_job(folder):
     for part, face_count in enumerate(job["face_counts"]):
         arrays = {name: _load(folder, "mesh{}_{}".format(part, name)) for name in MESH_ARRAYS}
         mesh = TriangleMesh(face_count=face_count, **arrays)
-        mesh.corner_normals = arrays["corner_normals"]   # already sanitised: normalising again moves last bits
+        if job["sanitised"][part]:
+            mesh.corner_normals = arrays["corner_normals"]   # normalising again would move last bits
         meshes.append(mesh)
         matrices.append(_load(folder, "matrix{}".format(part)))
         occluders.append([(_load(folder, "occluder{}_{}_positions".format(part, number)),

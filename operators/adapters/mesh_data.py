@@ -14,7 +14,7 @@ import bpy
 import numpy as np
 
 from ...core.keys import STACK_MODIFIER
-from ...core.mesh import TriangleMesh, boxes_near
+from ...core.mesh import MeshArrays, boxes_near
 from ...core.rays import world_winding
 
 #: Modifiers whose viewport and render levels may differ: (viewport property, render property).
@@ -110,12 +110,13 @@ def triangle_polygons(mesh, count):
     return polygon
 
 
-def read_triangles(mesh):
-    """A :class:`~..core.mesh.TriangleMesh` of a ``bpy.types.Mesh``, in object space.
+def read_mesh_arrays(mesh):
+    """A ``bpy.types.Mesh`` as :class:`~..core.mesh.MeshArrays`, in object space: one ``foreach_get`` per
+    attribute, nothing worked out from them yet.
 
     Returns
     -------
-    triangle_mesh : TriangleMesh
+    arrays : MeshArrays
         Faces are the mesh's polygons, triangulated by Blender (concave n-gons
         included); corner normals are Blender's (custom normals, sharp edges
         and flat shading respected).
@@ -123,19 +124,25 @@ def read_triangles(mesh):
         Loop (face corner) index of each triangle corner, to write UVs back.
     """
     loops = triangle_loops(mesh)
-    positions, triangles = triangle_arrays(mesh, loops)
-    count = len(triangles)
+    count = len(loops)
     corner_normals = np.empty(len(mesh.loops) * 3, dtype=np.float32)
     if len(mesh.loops):
         mesh.corner_normals.foreach_get("vector", corner_normals)
-    triangle_mesh = TriangleMesh(
-        positions,
-        triangles,
+    arrays = MeshArrays(
+        vertex_positions(mesh).reshape(-1, 3),
+        loop_vertices(mesh).astype(np.int64)[loops],
         triangle_polygons(mesh, count),
-        corner_normals.reshape(-1, 3)[loops] if count else np.zeros((0, 3, 3)),
+        corner_normals.reshape(-1, 3)[loops] if count else np.zeros((0, 3, 3), dtype=np.float32),
         face_count=len(mesh.polygons),
     )
-    return triangle_mesh, loops
+    return arrays, loops
+
+
+def read_triangles(mesh):
+    """A :class:`~..core.mesh.TriangleMesh` of a ``bpy.types.Mesh`` (:func:`read_mesh_arrays`) and the loop
+    of each triangle corner."""
+    arrays, loops = read_mesh_arrays(mesh)
+    return arrays.mesh(), loops
 
 
 @dataclass
@@ -203,13 +210,13 @@ def evaluated_mesh(ob, depsgraph):
 
 
 def read_object(ob, depsgraph):
-    """``ob`` as ``depsgraph`` evaluates it: :func:`read_triangles` of its evaluated mesh, and that mesh's
+    """``ob`` as ``depsgraph`` evaluates it: :func:`read_mesh_arrays` of its evaluated mesh, and that mesh's
     :class:`Topology`, and whether its corners are its base mesh's (the bake's UV maps can then be written
     on the base mesh, which deforming modifiers carry through)."""
     with evaluated_mesh(ob, depsgraph) as mesh:
-        triangle_mesh, loops = read_triangles(mesh)
+        arrays, loops = read_mesh_arrays(mesh)
         topology = Topology.of(mesh)
-    return triangle_mesh, loops, topology, topology.same_as(ob.data)
+    return arrays, loops, topology, topology.same_as(ob.data)
 
 
 def world_boxes(depsgraph):

@@ -126,7 +126,7 @@ class BakeSession:
             else:
                 # Each part's occluders were read and culled to its ray reach in _read_meshes (the depsgraph is
                 # only at hand there), so the pipeline's (low, high, reach) arguments are not needed again.
-                self.pipeline = BakePipeline(meshes, self.matrices, self.settings,
+                self.pipeline = BakePipeline([arrays.mesh() for arrays in meshes], self.matrices, self.settings,
                                              caster_maker(self.settings), lambda part, *_: occluders[part],
                                              free_casters, self._shown())
                 yield from self.pipeline.steps()
@@ -185,7 +185,8 @@ class BakeSession:
 
     def _read_meshes(self):
         """The baked objects and, if asked, the scene geometry near each, all as they render; returns the
-        meshes, the :class:`BakedObject` of each and each one's occluders (world geometry)."""
+        meshes (:class:`~...core.mesh.MeshArrays`: a background bake works out the rest in its own process),
+        the :class:`BakedObject` of each and each one's occluders (world geometry)."""
         meshes, baked, occluders = [], [], []
         users = {}
         for ob in self.objects:
@@ -195,16 +196,16 @@ class BakeSession:
         with render_evaluation(evaluated):
             depsgraph = bpy.context.evaluated_depsgraph_get()
             for ob in self.objects:
-                triangle_mesh, loops, topology, on_base = read_object(ob, depsgraph)
-                if not len(triangle_mesh.triangles):
+                arrays, loops, topology, on_base = read_object(ob, depsgraph)
+                if not len(arrays.triangles):
                     raise SeamlessAOError("'{}' has no faces to bake as it renders (its modifiers leave none)".format(
                         ob.name))
                 matrix = np.array(ob.matrix_world, dtype=np.float64)
-                meshes.append(triangle_mesh)
+                meshes.append(arrays)
                 baked.append(BakedObject(ob, loops, matrix, topology, not on_base or users[ob.data] > 1))
             boxes = world_boxes(depsgraph) if self.settings.use_scene_occluders else None
             for ob, mesh, part in zip(self.objects, meshes, baked):
-                occluders.append(scene_occluders(boxes, ob, *world_reach(mesh, part.matrix, self.settings))
+                occluders.append(scene_occluders(boxes, ob, *world_reach(mesh.mesh(), part.matrix, self.settings))
                                  if boxes is not None else [])
         self.matrices = [part.matrix for part in baked]
         depsgraph = bpy.context.evaluated_depsgraph_get()       # as the viewport evaluates it, levels and all
