@@ -99,7 +99,7 @@ def read_job(folder):
                            _load(folder, "occluder{}_{}_triangles".format(part, number)))
                           for number in range(job["occluders"][part])])
     shown = [tuple(_load(folder, "shown{}_{}".format(part, name)) for name in SURFACE_ARRAYS) if given else None
-             for part, given in enumerate(job.get("shown", [False] * len(meshes)))]
+             for part, given in enumerate(job["shown"])]
     return meshes, matrices, occluders, BakeSettings.from_kwargs(**job["settings"]), shown
 
 

@@ -177,12 +177,9 @@ class BakePipeline:
 
     def shown_surface_uv(self, part, surface):
         """UVs for ``surface`` (``(positions, corner_vert, loop_start)``) from mesh ``part``'s charts."""
-        triangles = self.meshes[part].triangles
-        corner_uv = np.stack(self.result.part_axis_uv(part)).reshape(3, -1, 2)          # (3, 3t, 2)
-        corner_drop = np.repeat(self.result.part_layer_drop(part).T, 3, axis=1)         # (3, 3t)
-        baked = (self.meshes[part].positions, triangles.ravel(), np.arange(len(triangles)) * 3)
-        return surface_uv(baked, corner_uv, corner_drop, surface, (self.result.layout.atlas.width,
-                                                                   self.result.layout.atlas.height))
+        mesh, atlas = self.meshes[part], self.result.layout.atlas
+        return surface_uv((mesh.positions, mesh.triangles), np.stack(self.result.part_axis_uv(part)),
+                          self.result.part_layer_drop(part), surface, (atlas.width, atlas.height))
 
     def free(self):
         """Free every caster made so far (safe to call twice)."""

@@ -23,7 +23,8 @@ def _solve_2x2(matrix, right):
     """``np.linalg.solve`` for many 2x2 systems (f, 2, 2) by the closed form, in a fraction of its time
     (``matrix`` symmetric positive definite here: a spread plus a ridge)."""
     a, b, c, d = matrix[:, 0, 0], matrix[:, 0, 1], matrix[:, 1, 0], matrix[:, 1, 1]
-    inverse = np.stack([np.stack([d, -b], axis=1), np.stack([-c, a], axis=1)], axis=1) / (a * d - b * c)[:, None, None]
+    determinant = (a * d - b * c)[:, None, None]
+    inverse = np.stack([np.stack([d, -b], axis=1), np.stack([-c, a], axis=1)], axis=1) / determinant
     return np.einsum("fij,fjk->fik", inverse, right)
 
 
@@ -91,62 +92,40 @@ AGREE_TEXELS = 1.5
 EDGE_STEPS = 8
 
 
-def fan_triangles(corner_vert, loop_start):
-    """Each face cut into a fan of triangles from its first corner.
+class NearestTriangle:
+    """The triangle of a mesh nearest a point, through mathutils' BVH."""
 
-    Returns
-    -------
-    triangles : (t, 3) int, vertex indices
-    triangle_face : (t,) int
-    """
-    corner_vert = np.asarray(corner_vert, dtype=np.int64)
-    loop_start = np.asarray(loop_start, dtype=np.int64)
-    sizes = np.diff(np.append(loop_start, len(corner_vert)))
-    triangle_face = np.repeat(np.arange(len(loop_start)), np.maximum(sizes - 2, 0))
-    first = loop_start[triangle_face]
-    step = np.arange(len(triangle_face)) - np.repeat(np.cumsum(np.maximum(sizes - 2, 0)) - np.maximum(sizes - 2, 0),
-                                                     np.maximum(sizes - 2, 0))
-    triangles = corner_vert[np.stack([first, first + step + 1, first + step + 2], axis=1)]
-    return triangles, triangle_face
-
-
-class NearestFace:
-    """The face of a mesh nearest a point, through mathutils' BVH over the mesh's faces cut into fans."""
-
-    def __init__(self, positions, corner_vert, loop_start):
+    def __init__(self, positions, triangles):
         from mathutils.bvhtree import BVHTree
-        triangles, self.triangle_face = fan_triangles(corner_vert, loop_start)
-        self.tree = BVHTree.FromPolygons(np.asarray(positions, dtype=np.float64).tolist(), triangles.tolist(),
-                                         all_triangles=True)
+        self.tree = BVHTree.FromPolygons(np.asarray(positions, dtype=np.float64).tolist(),
+                                         np.asarray(triangles).tolist(), all_triangles=True)
 
     def __call__(self, points):
-        """The face nearest each of ``points`` (k, 3) (a loop over the BVH), and the nearest point on it.
+        """The triangle nearest each of ``points`` (k, 3) (a loop over the BVH), and the nearest point on it.
 
         Returns
         -------
-        faces : (k,) int
+        triangles : (k,) int
         nearest : (k, 3) float64
         """
         points = np.asarray(points, dtype=np.float64)
-        faces, nearest = np.zeros(len(points), dtype=np.int64), points.copy()
+        found, nearest = np.zeros(len(points), dtype=np.int64), points.copy()
         for k, point in enumerate(points.tolist()):
             location, _, index, _ = self.tree.find_nearest(point)
             if index is not None:
-                faces[k], nearest[k] = self.triangle_face[index], location
-        return faces, nearest
+                found[k], nearest[k] = index, location
+        return found, nearest
 
 
 def stands_off(baked_positions, baked_triangles, points):
     """Whether ``points`` (k, 3) (a surface's vertices) stand off the surface of triangles ``baked_triangles``
     (t, 3) over ``baked_positions`` (v, 3) by more than :data:`STANDOFF` of its diagonal, at the 90th
     percentile of their distances to it."""
-    from mathutils.bvhtree import BVHTree
-    positions = np.asarray(baked_positions, dtype=np.float64)
     if not len(points) or not len(baked_triangles):
         return False
-    tree = BVHTree.FromPolygons(positions.tolist(), np.asarray(baked_triangles).tolist(), all_triangles=True)
-    distance = np.array([tree.find_nearest(point)[3] or 0.0 for point in np.asarray(points, np.float64).tolist()])
-    diagonal = float(np.linalg.norm(np.ptp(positions, axis=0)))
+    points = np.asarray(points, dtype=np.float64)
+    distance = np.linalg.norm(NearestTriangle(baked_positions, baked_triangles)(points)[1] - points, axis=1)
+    diagonal = float(np.linalg.norm(np.ptp(np.asarray(baked_positions, dtype=np.float64), axis=0)))
     return bool(np.percentile(distance, 90) > STANDOFF * max(diagonal, 1e-30))
 
 
@@ -201,18 +180,22 @@ def surface_uv(baked, baked_uv, baked_drop, shown, image_size):
 
     Parameters
     ----------
-    baked, shown : (positions (v, 3) float, corner_vert (l,) int, loop_start (f,) int) of the baked surface
-        and of the surface to give UVs, in the same object space
-    baked_uv : (3 layers, l, 2) float, the baked corners' UVs in AO_X, AO_Y, AO_Z
-    baked_drop : (3 layers, l) int, the coordinate each baked corner's chart projects away in each layer
+    baked : (positions (v, 3) float, triangles (t, 3) int) of the baked surface
+    baked_uv : (3 layers, t, 3 corners, 2) float, the baked triangles' UVs in AO_X, AO_Y, AO_Z
+    baked_drop : (t, 3 layers) int, the coordinate each baked triangle's chart projects away in each layer
+    shown : (positions (v, 3) float, corner_vert (l,) int, loop_start (f,) int) of the surface to give UVs,
+        in the baked surface's object space
     image_size : (width, height) in texels
 
     Returns
     -------
     (3 layers, l shown corners, 2) float32 in [0, 1]
     """
-    linear, offset = face_uv_maps(*baked, baked_uv, baked_drop)
-    nearest = NearestFace(*baked)
+    positions, triangles = (np.asarray(a) for a in baked)
+    corner_drop = np.repeat(np.asarray(baked_drop).T, 3, axis=1)                  # (3 layers, 3t)
+    linear, offset = face_uv_maps(positions, triangles.ravel(), np.arange(len(triangles)) * 3,
+                                  np.asarray(baked_uv).reshape(3, -1, 2), corner_drop)
+    nearest = NearestTriangle(positions, triangles)
     positions = np.asarray(shown[0], dtype=np.float64)
     corner_vert, loop_start = np.asarray(shown[1], dtype=np.int64), np.asarray(shown[2], dtype=np.int64)
     sizes = np.diff(np.append(loop_start, len(corner_vert)))

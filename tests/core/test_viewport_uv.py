@@ -4,7 +4,7 @@ import numpy as np
 
 from package import seamless_ao  # noqa: F401  (imports the add-on as ``seamless_ao``)
 
-from seamless_ao.core.viewport_uv import face_uv_maps, fan_triangles, stands_off, surface_uv
+from seamless_ao.core.viewport_uv import face_uv_maps, stands_off, surface_uv
 
 
 def quads_and_triangles(rng, faces=40):
@@ -60,14 +60,14 @@ def test_a_face_edge_on_to_its_chart_gets_a_flat_finite_map():
 
 
 def two_charts_side_by_side():
-    """A baked strip in the plane z = 0: quad A (x in [0, 1]) and quad B (x in [1, 2]), each in its own chart
-    (x, y projected, far apart in the image); returns the baked arrays and each chart's map."""
+    """A baked strip in the plane z = 0: square A (x in [0, 1]) and square B (x in [1, 2]), two triangles
+    each, each square in its own chart (x, y projected, far apart in the image); returns the baked arrays
+    and each chart's map."""
     positions = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0]], dtype=np.float64)
-    corner_vert = np.array([0, 1, 2, 3, 1, 4, 5, 2])
-    loop_start = np.array([0, 4])
+    triangles = np.array([[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2]])
     maps = {"A": lambda p: 0.1 + 0.2 * p[..., :2], "B": lambda p: np.array([0.6, 0.1]) + 0.2 * (p[..., :2] - [1, 0])}
-    uv = np.concatenate([maps["A"](positions[corner_vert[:4]]), maps["B"](positions[corner_vert[4:]])])
-    return (positions, corner_vert, loop_start), np.tile(uv, (3, 1, 1)), np.full((3, 8), 2), maps
+    uv = np.concatenate([maps["A"](positions[triangles[:2]]), maps["B"](positions[triangles[2:]])])  # (4, 3, 2)
+    return (positions, triangles), np.tile(uv, (3, 1, 1, 1)), np.full((4, 3), 2), maps
 
 
 def test_a_face_within_one_chart_reads_that_chart_at_its_corners():
@@ -95,13 +95,6 @@ def test_a_face_across_two_charts_reads_one_and_its_edge_past_it():
     edge = inside + along * (shown_positions[2] - inside)
     np.testing.assert_allclose(out[0, 2], maps["A"](edge), atol=0.2 * 2.0 ** -8 + 1e-6)
     assert np.isfinite(out).all() and (out >= 0).all() and (out <= 1).all()
-
-
-def test_fan_triangles_cut_each_face_from_its_first_corner():
-    corner_vert = np.array([0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11])    # a quad, a pentagon, a triangle
-    triangles, triangle_face = fan_triangles(corner_vert, np.array([0, 4, 9]))
-    np.testing.assert_array_equal(triangle_face, [0, 0, 1, 1, 1, 2])
-    np.testing.assert_array_equal(triangles, [[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7], [4, 7, 8], [9, 10, 11]])
 
 
 def test_a_cage_stands_off_the_surface_it_gives_and_points_on_it_do_not():
