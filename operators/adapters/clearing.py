@@ -20,7 +20,7 @@ def clear(objects):
             continue
         touched = False
         mesh = ob.data
-        modifier, helpers = stack.stack_modifier(ob), (stack.helper_of(ob), stack.viewport_helper_of(ob))
+        modifier, helpers = stack.stack_modifier(ob), stack.helpers_of(ob)
         if modifier is not None:
             ob.modifiers.remove(modifier)
             touched = True

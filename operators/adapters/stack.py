@@ -237,6 +237,11 @@ def viewport_helper_of(ob):
     return helper_inputs(modifier)[1] if modifier is not None else None
 
 
+def helpers_of(ob):
+    """``(baked, viewport)``: the helpers an earlier bake left for ``ob``, each None if none."""
+    return helper_of(ob), viewport_helper_of(ob)
+
+
 def remove_helper(helper):
     """Remove a helper object and its mesh (once nothing else uses them); None: nothing."""
     if helper is None:

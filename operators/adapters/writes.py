@@ -156,7 +156,7 @@ class Transaction:
         helpers = [self._helper(stack.helper_name(ob), topology, per_corner), None]
         if viewport is not None and viewport_uv is not None:
             helpers[1] = self._helper(stack.helper_name(ob, viewport=True), viewport, viewport_uv)
-        for old in (stack.helper_of(ob), stack.viewport_helper_of(ob)):
+        for old in stack.helpers_of(ob):
             if old is not None and old not in helpers:
                 self.on_commit.append(lambda old=old: stack.remove_helper(old))
         modifier = stack.stack_modifier(ob)
@@ -188,7 +188,7 @@ class Transaction:
     def drop_stack(self, ob):
         """Take an earlier bake's modifier and helpers off ``ob`` (its stack no longer needs them: the UV maps
         go on its mesh), undone by putting them back."""
-        modifier, helpers = stack.stack_modifier(ob), (stack.helper_of(ob), stack.viewport_helper_of(ob))
+        modifier, helpers = stack.stack_modifier(ob), stack.helpers_of(ob)
         if modifier is not None:
             position = list(ob.modifiers).index(modifier)
             group, inputs, pinned = modifier.node_group, stack.helper_inputs(modifier), modifier.use_pin_to_last
