@@ -82,8 +82,9 @@ def face_uv_maps(positions, corner_vert, loop_start, corner_uv, corner_drop):
 
 #: Where the 90th percentile of the distance from the viewport surface's vertices to the baked surface is more
 #: than this share of the baked surface's bounding-box diagonal, the viewport surface stands off it (a
-#: Subdivision cage does: 1.3% on Suzanne; a surface of level 1 or more has its vertices on the next level's)
-#: and no AO read from the baked surface can be its own: it is baked too (:func:`stands_off`).
+#: Subdivision cage does: 1.26% on Suzanne, docs/bench/bench_viewport.md; a surface of level 1 or more has
+#: its vertices on the next level's) and no AO read from the baked surface can be its own: it is baked too
+#: (:func:`stands_off`).
 STANDOFF = 1.0e-3
 #: A corner is held by a chart where that chart's map and the map of the baked face nearest the corner agree
 #: to within this many texels (two charts put one point hundreds of texels apart).

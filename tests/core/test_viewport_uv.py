@@ -99,7 +99,7 @@ def test_a_face_across_two_charts_reads_one_and_its_edge_past_it():
 
 def test_a_cage_stands_off_the_surface_it_gives_and_points_on_it_do_not():
     """A unit square at z = 0 as two triangles: its own corners lie on it, a copy lifted by 2% of its
-    diagonal stands off it (a Subdivision cage stands off its surface by about 1.3% of Suzanne's)."""
+    diagonal stands off it (a Subdivision cage stands off its surface by about 1.26% of Suzanne's)."""
     positions = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]])
     triangles = np.array([[0, 1, 2], [0, 2, 3]])
     assert not stands_off(positions, triangles, positions)
