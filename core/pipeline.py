@@ -100,7 +100,7 @@ class BakePipeline:
     def __init__(self, meshes, matrices, settings, make_caster, occluders=None, free_casters=None, shown=None):
         self.meshes = list(meshes)
         self.matrices = [np.asarray(m, dtype=np.float64) for m in matrices]
-        self.settings = settings
+        self.settings = settings.resolved()             # the Quality preset's image size and rays filled in
         self.make_caster = make_caster
         self.occluders = occluders
         self.free_casters = free_casters or _free_each

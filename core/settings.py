@@ -68,6 +68,29 @@ CASTER_ITEMS = (
      "texel, Geometry Nodes otherwise".format(CLASSIC_AO, BULK_PILOT_RAYS)),
 )
 
+#: What each Quality preset bakes with: ``(image size, rays per texel)``.  Chosen from tests/bench/report.py's
+#: four meshes (docs/bench/report.md): each the cheapest fixed setting that met the preset's promise on most of
+#: them.  Not yet chosen from the mesh itself.
+PRESETS = {"DRAFT": (256, 4), "GOOD": (256, 32), "FINAL": (512, 32)}
+QUALITY_ITEMS = (
+    ("DRAFT", "Draft", "A quick look: {}² image, {} rays per texel".format(*PRESETS["DRAFT"])),
+    ("GOOD", "Good", "For most uses: {}² image, {} rays per texel".format(*PRESETS["GOOD"])),
+    ("FINAL", "Final", "For the final render: {}² image, {} rays per texel".format(*PRESETS["FINAL"])),
+    ("CUSTOM", "Custom", "Choose the rays and the image yourself (Advanced)"),
+)
+#: The settings a Quality preset chooses: giving one of them (a keyword, an operator property, a command-line
+#: option) without a Quality means Custom.
+PRESET_CHOOSES = ("rays", "size_mode", "image_size", "texel_density")
+
+
+def implied_quality(given):
+    """``given`` (setting name -> value) with ``quality`` Custom added when it sets one of
+    :data:`PRESET_CHOOSES` and no quality: whoever asks for 32 rays means 32 rays."""
+    if "quality" in given or not any(name in given for name in PRESET_CHOOSES):
+        return dict(given)
+    return dict(given, quality="CUSTOM")
+
+
 SAVE_ITEMS = (
     ("NONE", "Packed Only", "Keep the image packed in the .blend only"),
     ("PNG", "16-bit PNG", "Also save the image as a 16-bit PNG next to the .blend"),
@@ -83,6 +106,7 @@ class _Settings:
         """Build validated settings from keyword arguments; unknown names are an error."""
         names = {f.name for f in dataclasses.fields(cls)}
         unknown = sorted(set(kwargs) - names)
+        kwargs = implied_quality(kwargs) if "quality" in names else kwargs
         if unknown:
             raise SeamlessAOError(
                 "Unknown setting{} {}; valid settings are: {}".format(
@@ -94,7 +118,7 @@ class _Settings:
     def replace(self, **kwargs):
         """A validated copy with some settings changed."""
         merged = dataclasses.asdict(self)
-        merged.update(kwargs)
+        merged.update(implied_quality(kwargs) if "quality" in merged else kwargs)
         return type(self).from_kwargs(**merged)
 
     def validate(self):
@@ -118,8 +142,12 @@ class _Settings:
 class BakeSettings(_Settings):
     """All settings of one bake.  Angles are in degrees, distances in scene units."""
 
+    quality: str = _setting(
+        "GOOD", "Quality", "How accurate the bake is: each preset chooses the image size and the rays; Custom "
+        "leaves them to you", items=QUALITY_ITEMS)
+
     # -- rays ------------------------------------------------------------------
-    rays: int = _setting(64, "Rays", "Rays cast per texel (the thesis' default is 64)", min=1, max=4096)
+    rays: int = _setting(64, "Rays", "Rays cast per texel, with Quality Custom (the thesis' default is 64)", min=1, max=4096)
     auto_distance: bool = _setting(
         True, "Automatic Distance",
         "Use half the bounding-box diagonal of the object's faces as the maximum ray distance (debris far "
@@ -165,8 +193,8 @@ class BakeSettings(_Settings):
         60.0, "Compare Angle",
         "A face joins an axis chart when its normal is within this angle of the axis (more = more overlap)",
         min=30.0, max=85.0, unit="°")
-    size_mode: str = _setting("IMAGE_SIZE", "Resolution By", "How the image resolution is chosen", items=SIZE_MODE_ITEMS)
-    image_size: int = _setting(1024, "Image Size", "Width and height of the AO image", min=256, max=8192, unit="texels")
+    size_mode: str = _setting("IMAGE_SIZE", "Resolution By", "How the image resolution is chosen, with Quality Custom", items=SIZE_MODE_ITEMS)
+    image_size: int = _setting(1024, "Image Size", "Width and height of the AO image, with Quality Custom", min=256, max=8192, unit="texels")
     texel_density: float = _setting(
         256.0, "Texel Density", "Texels per scene unit (used when Resolution By is Texel Density)",
         min=1.0e-6, max=1.0e9, unit="texels per scene unit")
@@ -200,6 +228,23 @@ class BakeSettings(_Settings):
                 "Geometry Nodes caster.".format(name, getattr(self, name), reason, needed))
         return self
 
+    def resolved(self):
+        """These settings with the Quality preset's image size and rays filled in (``self`` when Custom): what
+        a bake reads."""
+        if self.quality not in PRESETS:
+            return self
+        image_size, rays = PRESETS[self.quality]
+        if (self.size_mode, self.image_size, self.rays) == ("IMAGE_SIZE", image_size, rays):
+            return self
+        return dataclasses.replace(self, size_mode="IMAGE_SIZE", image_size=image_size, rays=rays)
+
+    def chosen(self, width, height):
+        """The Quality and what the bake took, in a few words for the report: "Good, 256², 32 rays" (``width``
+        and ``height``: the image's texels, which the layout chooses with Texel Density)."""
+        label = {item[0]: item[1] for item in QUALITY_ITEMS}[self.quality]
+        size = "{}²".format(width) if width == height else "{}×{}".format(width, height)
+        return "{}, {}, {} rays".format(label, size, self.resolved().rays)
+
     def cycles_cannot_follow(self):
         """The first ``(setting, value it needs, reason, in short)`` of :data:`CYCLES_NEEDS` these settings break,
         or None."""
@@ -218,7 +263,7 @@ class BakeSettings(_Settings):
         unfollowed = self.cycles_cannot_follow()
         if unfollowed:
             return "GEOMETRY_NODES", unfollowed[2]
-        if self.rays <= BULK_PILOT_RAYS:
+        if self.resolved().rays <= BULK_PILOT_RAYS:
             return "GEOMETRY_NODES", "the node casts each texel's first {} rays itself".format(BULK_PILOT_RAYS)
         return "CYCLES", "all but each texel's first {} rays".format(BULK_PILOT_RAYS)
 

@@ -2,7 +2,7 @@
 
 import bpy
 
-from ..core.settings import CYCLES_NEEDS
+from ..core.settings import CYCLES_NEEDS, QUALITY_ITEMS
 from ..operators.adapters.scene_settings import automatic_caster_line
 from ..operators.ui.poll import stale_bakes
 from .text import wrapped_labels
@@ -51,6 +51,7 @@ class VIEW3D_PT_seamless_ao(SidebarPanel, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         settings = context.scene.seamless_ao
+        layout.prop(settings, "quality")
         column = layout.column(align=True)
         column.scale_y = 1.4
         column.operator("object.seamless_ao_bake", icon="RENDER_STILL")
@@ -73,20 +74,49 @@ class VIEW3D_PT_seamless_ao(SidebarPanel, bpy.types.Panel):
 
 def last_bake_rows(settings):
     """``[(label, value)]`` of the Last bake box, each pair drawn on one row."""
-    return [("Time", "{:.1f} s".format(settings.last_bake_time)),
+    quality, _, image = settings.last_bake_quality.partition(", ")
+    return [("Quality", quality), ("Image", image),
+            ("Time", "{:.1f} s".format(settings.last_bake_time)),
             ("Texels", "{:,}".format(settings.last_bake_texels)),
             ("Rays", "{:,.0f}".format(settings.last_bake_rays)),
             ("Atlas use", "{:.0%}".format(settings.last_bake_utilisation)),
             ("Noise (raw, 1σ)", "≈ {:.3f}".format(settings.last_bake_noise))]
 
 
-class VIEW3D_PT_seamless_ao_rays(SubPanel, bpy.types.Panel):
+class VIEW3D_PT_seamless_ao_advanced(SubPanel, bpy.types.Panel):
+    """Today's knobs, closed: the Quality preset chooses the rays and the image size unless it is Custom."""
+
+    bl_label = "Advanced"
+
+    def draw(self, context):
+        settings = context.scene.seamless_ao
+        if settings.quality != "CUSTOM":
+            wrapped_labels(self.layout, context, "Quality {} chooses the rays and the image size; Custom leaves "
+                           "them to you.".format(preset_label(settings.quality)), icon="INFO")
+
+
+def preset_label(quality):
+    return {item[0]: item[1] for item in QUALITY_ITEMS}[quality]
+
+
+class AdvancedPanel(SubPanel):
+    bl_parent_id = "VIEW3D_PT_seamless_ao_advanced"
+
+    @staticmethod
+    def chosen_row(column, settings, name):
+        """A setting the Quality preset chooses: greyed out unless Custom."""
+        row = column.row()
+        row.active = settings.quality == "CUSTOM"
+        row.prop(settings, name)
+
+
+class VIEW3D_PT_seamless_ao_rays(AdvancedPanel, bpy.types.Panel):
     bl_label = "Rays"
     bl_options = set()
 
     def draw(self, context):
         column, settings = self.settings_column(context)
-        column.prop(settings, "rays")
+        self.chosen_row(column, settings, "rays")
         column.prop(settings, "auto_distance")
         row = column.row()
         row.enabled = not settings.auto_distance
@@ -95,7 +125,7 @@ class VIEW3D_PT_seamless_ao_rays(SubPanel, bpy.types.Panel):
             self.setting_row(column, settings, name)
 
 
-class VIEW3D_PT_seamless_ao_occluders(SubPanel, bpy.types.Panel):
+class VIEW3D_PT_seamless_ao_occluders(AdvancedPanel, bpy.types.Panel):
     bl_label = "Occluders"
     settings = ("use_scene_occluders", "use_ground_plane", "ignore_backfaces", "horizon_bias", "ray_caster")
 
@@ -106,13 +136,13 @@ class VIEW3D_PT_seamless_ao_occluders(SubPanel, bpy.types.Panel):
             wrapped_labels(self.layout, context, line, icon="INFO")
 
 
-class VIEW3D_PT_seamless_ao_image(SubPanel, bpy.types.Panel):
+class VIEW3D_PT_seamless_ao_image(AdvancedPanel, bpy.types.Panel):
     bl_label = "Charts and Image"
 
     def draw(self, context):
         column, settings = self.settings_column(context)
-        column.prop(settings, "size_mode")
-        column.prop(settings, "image_size" if settings.size_mode == "IMAGE_SIZE" else "texel_density")
+        self.chosen_row(column, settings, "size_mode")
+        self.chosen_row(column, settings, "image_size" if settings.size_mode == "IMAGE_SIZE" else "texel_density")
         for name in ("padding", "compare_angle", "memory_budget_mb"):
             column.prop(settings, name)
 

@@ -2,19 +2,20 @@
 the core's :class:`~...core.settings.BakeSettings` and ``ExportSettings``."""
 
 from ...core.errors import SeamlessAOError
-from ...core.settings import CASTER_ITEMS, BakeSettings, ExportSettings, export_fields, setting_fields
+from ...core.settings import (CASTER_ITEMS, BakeSettings, ExportSettings, export_fields, implied_quality,
+                              setting_fields)
 
 
 def settings_from(source, overrides=None):
     """:class:`BakeSettings` read from a property holder (scene group or operator).
 
-    ``overrides`` is an optional second holder whose explicitly set properties win.
+    ``overrides`` is an optional second holder whose explicitly set properties win (setting the rays or the
+    image size there without a Quality means Custom: :func:`~...core.settings.implied_quality`).
     """
     values = {f.name: getattr(source, f.name) for f in setting_fields()}
     if overrides is not None:
-        for f in setting_fields():
-            if overrides.properties.is_property_set(f.name):
-                values[f.name] = getattr(overrides, f.name)
+        values.update(implied_quality({f.name: getattr(overrides, f.name) for f in setting_fields()
+                                       if overrides.properties.is_property_set(f.name)}))
     return BakeSettings.from_kwargs(**values)
 
 

@@ -76,11 +76,12 @@ class BakeReport:
     warnings: list
     caster: str
     noise: float = 0.0
+    quality: str = ""           # the Quality and what it baked with, e.g. "Good, 256², 32 rays"
 
     def summary(self):
-        text = "Baked {} in {:.1f} s: {}x{} image '{}', {:,} texels, {:,.0f} rays, {:.0%} of the image used".format(
-            ", ".join(self.objects), self.seconds, self.width, self.height, self.image, self.texels, self.rays,
-            self.utilisation)
+        text = "Baked {} in {:.1f} s ({}): {}x{} image '{}', {:,} texels, {:,.0f} rays, {:.0%} of the image " \
+               "used".format(", ".join(self.objects), self.seconds, self.quality, self.width, self.height,
+                             self.image, self.texels, self.rays, self.utilisation)
         text += ", ray noise before denoising about {:.3f}".format(self.noise)
         text += ", rays cast by {}".format(CASTER_LABELS.get(self.caster, self.caster))
         if self.mesh_problems:
@@ -104,7 +105,7 @@ class BakeSession:
 
     def __init__(self, objects, settings, scene=None, background=False):
         self.objects = list(objects)
-        self.settings = settings
+        self.settings = settings.resolved()            # the Quality preset's image size and rays filled in
         self.scene = scene or bpy.context.scene
         self.background = background
         self.pipeline = None
@@ -138,6 +139,7 @@ class BakeSession:
             self.report = BakeReport(
                 objects=[ob.name for ob in self.objects], image=self.image_name,
                 seconds=time.perf_counter() - self.started, warnings=warnings,
+                quality=self.settings.chosen(numbers["width"], numbers["height"]),
                 **{name: value for name, value in numbers.items() if name != "warnings"})
             store_stats(self.scene, self.report)
             yield 1.0, "Done"
@@ -283,6 +285,7 @@ def store_stats(scene, report):
     props.last_bake_rays = float(report.rays)
     props.last_bake_utilisation = report.utilisation
     props.last_bake_noise = report.noise
+    props.last_bake_quality = report.quality
 
 
 

@@ -66,6 +66,9 @@ def _stats_annotations():
             name="Noise", description="Ray noise of the last bake's AO before denoising, estimated as if its rays "
             "were independent (one standard deviation, over the texels that got all their rays): an estimate, "
             "not a bound; stratified rays and the denoiser do better", default=0.0),
+        "last_bake_quality": StringProperty(
+            name="Quality", description="The last bake's Quality and the image size and rays it baked with",
+            default=""),
         "preview": BoolProperty(
             name="Preview AO Only",
             description="Show only the baked AO on the baked objects' materials (emission), to judge it",

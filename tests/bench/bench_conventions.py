@@ -41,7 +41,7 @@ PACKAGE = sys.modules["seamless_ao"]
 
 def estimator_at_points(ob, mesh, triangle, bary, normals, rays, mirror):
     """Seamless AO's own estimator at surface points (no atlas, no texture), rays mirrored or not."""
-    settings = BakeSettings(rays=rays, adaptive=False)
+    settings = BakeSettings(quality="CUSTOM", rays=rays, adaptive=False)
     part = ray_part(mesh, np.array(ob.matrix_world), settings, caster_maker(settings))
     params, caster, to_ray = part.params, part.caster, part.to_ray
     original = ao_module.ray_directions

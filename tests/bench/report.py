@@ -44,6 +44,7 @@ import time
 import numpy as np
 
 from common import PAGES, finish, markdown_table, say, use_gpu
+from quality_promises import PRESET_METHOD, promise_sentence, promise_table
 
 import bpy
 
@@ -52,6 +53,7 @@ from blender_scenes import cornell_box, sphere_over_plane, suzanne
 from cycles_baseline import UV_NAME, cycles_ao_bake
 from seams import point_normals, seam_error, seam_pairs, seam_renders
 from seamless_ao.core.keys import IMAGE_KEY
+from seamless_ao.core.settings import PRESETS, QUALITY_ITEMS
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 import package
@@ -225,18 +227,10 @@ def run_mesh(name, cache, out, rows, curves, timed_runs=3):
     seamless_bake(ob, image_size=256, rays=1)                   # replaced by the next bake
 
     def cycles_median(image_size, samples):
-        runs = []
-        for _ in range(timed_runs):
-            image, unwrap, bake = cycles_ao_bake(ob, image_size, samples, distance)
-            runs.append((unwrap + bake, unwrap, bake, image))
-        runs.sort(key=lambda run: run[0])
-        for run in runs[:len(runs) // 2] + runs[len(runs) // 2 + 1:]:
-            bpy.data.images.remove(run[3])
-        return runs[len(runs) // 2][1:]
+        return cycles_median_bake(ob, image_size, samples, distance, timed_runs)
 
     def seamless_median(**settings):
-        runs = sorted((seamless_bake(ob, **settings) for _ in range(timed_runs)), key=lambda run: run[0])
-        return runs[len(runs) // 2]
+        return seamless_median_bake(ob, timed_runs, **settings)
 
     # Cycles first, so the last Seamless AO bake is still in place for the seam renders.
     kept = None
@@ -252,24 +246,49 @@ def run_mesh(name, cache, out, rows, curves, timed_runs=3):
         kept = image
     # Undenoised and Cycles-cast first, so the last bake left on the object (for the seam renders) is a
     # default one.
-    runs = [(OURS_RAW, size, rays, {"denoise": False, "ray_caster": "GEOMETRY_NODES"})
+    runs = [(OURS_RAW, "{}², {} rays", dict(image_size=size, rays=rays, denoise=False, ray_caster="GEOMETRY_NODES"))
             for size, rays in ([] if trivial else RAW_RUNS)]
-    runs += [(OURS_CYCLES, size, rays, {"ray_caster": "CYCLES"})
+    runs += [(OURS_CYCLES, "{}², {} rays", dict(image_size=size, rays=rays, ray_caster="CYCLES"))
              for size, rays in ([] if trivial else CYCLES_CASTER_RUNS)]
-    runs += [(OURS, size, rays, {"ray_caster": "GEOMETRY_NODES"})
+    runs += [(PRESET_METHOD, label, dict(quality=quality)) for quality, label, _ in QUALITY_ITEMS if quality in PRESETS]
+    runs += [(OURS, "{}², {} rays", dict(image_size=size, rays=rays, ray_caster="GEOMETRY_NODES"))
              for size, rays in (SEAMLESS_RUNS[:1] if trivial else SEAMLESS_RUNS)]
     if not trivial:                                    # Cycles' own warm-up is done; the caster's scene is not
         seamless_bake(ob, image_size=256, rays=16, ray_caster="CYCLES")
-    for method, image_size, rays, extra in runs:
-        seconds, image_name, stages = seamless_median(image_size=image_size, rays=rays, **extra)
+    for method, label, settings in runs:
+        seconds, image_name, stages = seamless_median(**settings)
         image = bpy.data.images[image_name]
-        record(method, "{}², {} rays".format(image_size, rays),
+        if method == PRESET_METHOD:
+            label, settings = label.format(), dict(zip(("image_size", "rays"), PRESETS[settings["quality"]]))
+        setting = "{} ({}², {} rays)".format(label, settings["image_size"], settings["rays"]) \
+            if method == PRESET_METHOD else label.format(settings["image_size"], settings["rays"])
+        record(method, setting,
                seconds, " + ".join("{} {:.2f}".format(k, v) for k, v in stages.items()),
                shown_seamless(ob, image, loops, triangle, bary, normals),
                lambda t, b, image=image: shown_seamless(ob, image, loops, t, b, point_normals(mesh, t, b)),
-               [uv_layer_array(ob.data, n) for n in ("AO_X", "AO_Y", "AO_Z")], "{}/{}".format(image_size, rays))
+               [uv_layer_array(ob.data, n) for n in ("AO_X", "AO_Y", "AO_Z")],
+               label if method == PRESET_METHOD else "{}/{}".format(settings["image_size"], settings["rays"]))
     if name == "suzanne":
         seam_renders(ob, out, kept)
+
+
+def cycles_median_bake(ob, image_size, samples, distance, timed_runs):
+    """Smart UV Project + Cycles' AO bake ``timed_runs`` times: the median run's ``(unwrap s, bake s, image)``
+    (the other runs' images removed)."""
+    runs = []
+    for _ in range(timed_runs):
+        image, unwrap, bake = cycles_ao_bake(ob, image_size, samples, distance)
+        runs.append((unwrap + bake, unwrap, bake, image))
+    runs.sort(key=lambda run: run[0])
+    for run in runs[:len(runs) // 2] + runs[len(runs) // 2 + 1:]:
+        bpy.data.images.remove(run[3])
+    return runs[len(runs) // 2][1:]
+
+
+def seamless_median_bake(ob, timed_runs, **settings):
+    """:func:`seamless_bake` ``timed_runs`` times: the median run."""
+    runs = sorted((seamless_bake(ob, **settings) for _ in range(timed_runs)), key=lambda run: run[0])
+    return runs[len(runs) // 2]
 
 
 def seamless_bake(ob, **settings):
@@ -300,7 +319,8 @@ def plot(curves, path):
     fig, axes = plt.subplots(2, (len(names) + 1) // 2, figsize=(4.2 * ((len(names) + 1) // 2), 7.5), squeeze=False)
     for ax, name in zip(axes.ravel(), names):
         for method, style, colour in ((OURS, "o-", "tab:blue"), (OURS_RAW, "^:", "tab:cyan"),
-                                      (OURS_CYCLES, "D-.", "tab:purple"), ("Cycles", "s--", "tab:orange")):
+                                      (OURS_CYCLES, "D-.", "tab:purple"), ("Cycles", "s--", "tab:orange"),
+                                      (PRESET_METHOD, "*", "tab:red")):
             points = sorted(curves.get((name, method), []))
             if not points:
                 continue
@@ -406,6 +426,14 @@ def main():
     say()
     say("Seamless AO reaches the level in at most Cycles' time in {} of {} cells, and in at most half of it in "
         "{}.".format(within, cells, half))
+    say()
+    table, counts = promise_table(curves)
+    say("The Quality presets (Seamless AO's default: Good) beside Cycles' cheapest route to the error each "
+        "promises to reach:")
+    say()
+    say(table)
+    say()
+    say(promise_sentence(counts))
 
 
 if __name__ == "__main__":

@@ -18,7 +18,7 @@ from seamless_ao.operators.adapters.session import BakeSession
 
 #: The Geometry Nodes caster casts the same rays run after run (Cycles' threads do not), so the two
 #: processes must agree to the bit.
-SETTINGS = BakeSettings(rays=16, image_size=256, ray_caster="GEOMETRY_NODES")
+SETTINGS = BakeSettings(quality="CUSTOM", rays=16, image_size=256, ray_caster="GEOMETRY_NODES")
 
 
 def suzanne_on_a_plane():

@@ -8,6 +8,8 @@ from blender_checks import image_array, material_snapshot, mesh_snapshot, render
 from blender_scenes import suzanne
 from package import run_command, run_script, seamless_ao
 from seamless_ao.core.keys import BLEND, GROUP_NAME, NODE_PREFIX as PREFIX
+from seamless_ao.core.settings import PRESETS
+from seamless_ao.panels.sidebar import last_bake_rows
 from seamless_ao.shaders.material import enable_nodes
 
 FAST = dict(rays=8, image_size=256)
@@ -27,7 +29,7 @@ def monkey(addon, fresh_scene):
 
 def test_operator_writes_uv_maps_image_and_node_group(monkey):
     settings = bpy.context.scene.seamless_ao
-    settings.rays, settings.image_size = FAST["rays"], FAST["image_size"]
+    settings.quality, settings.rays, settings.image_size = "CUSTOM", FAST["rays"], FAST["image_size"]
     result = bpy.ops.object.seamless_ao_bake()
     assert result == {"FINISHED"}
     mesh = monkey.data
@@ -300,3 +302,17 @@ def test_every_operator_that_writes_is_one_undo_step(addon):
         assert "UNDO" in operator.bl_options, name
         assert ("REGISTER" in operator.bl_options) == (name != "seamless_ao_bake"), name
     assert not bpy.ops.ed.undo.poll()               # if a later bpy can undo headless, test it for real
+
+
+def test_the_quality_chooses_the_image_and_the_rays_and_the_panel_says_which(monkey):
+    settings = bpy.context.scene.seamless_ao
+    settings.quality, settings.rays, settings.image_size = "DRAFT", 999, 512     # the Custom knobs: unused
+    assert bpy.ops.object.seamless_ao_bake() == {"FINISHED"}
+    assert tuple(bpy.data.images["Suzanne_AO"].size) == PRESETS["DRAFT"][:1] * 2
+    chosen = "Draft, {}², {} rays".format(*PRESETS["DRAFT"])
+    assert settings.last_bake_quality == chosen and "({})".format(chosen) in settings.last_bake_summary
+    assert last_bake_rows(settings)[:2] == [("Quality", "Draft"), ("Image", chosen.partition(", ")[2])]
+    # an operator given rays and no Quality bakes Custom, with the scene's image size; the scene keeps Draft
+    assert bpy.ops.object.seamless_ao_bake(rays=2) == {"FINISHED"}
+    assert tuple(bpy.data.images["Suzanne_AO"].size) == (512, 512)
+    assert settings.last_bake_quality == "Custom, 512², 2 rays" and settings.quality == "DRAFT"

@@ -179,7 +179,7 @@ def test_the_panel_says_what_automatic_will_cast_with_and_why(addon, fresh_scene
     assert automatic_caster_line(settings) == "Automatic: Cycles, all but each texel's first 4 rays"
     settings.falloff = "LINEAR"
     assert automatic_caster_line(settings) == "Automatic: Geometry Nodes, Cycles' AO has no falloff"
-    settings.falloff, settings.rays = "NONE", 4
+    settings.falloff, settings.quality, settings.rays = "NONE", "CUSTOM", 4
     assert automatic_caster_line(settings).startswith("Automatic: Geometry Nodes, the node casts")
     settings.auto_distance, settings.max_distance = False, 0.0          # invalid: the bake will say why
     assert automatic_caster_line(settings) is None

@@ -263,7 +263,7 @@ def test_texels_of_a_transformed_object_get_the_ao_of_the_object_in_the_scene(na
     ob, mesh, loops, to_world = transformed_torus(name)
     world, _ = to_world(mesh.positions)
     max_distance = 0.5 * float(np.linalg.norm(world.max(axis=0) - world.min(axis=0)))
-    settings = BakeSettings(rays=512, auto_distance=False, max_distance=max_distance, adaptive=False)
+    settings = BakeSettings(quality="CUSTOM", rays=512, auto_distance=False, max_distance=max_distance, adaptive=False)
     part = ray_part(mesh, np.array(ob.matrix_world), settings, caster_maker(settings))
     params, caster, to_ray = part.params, part.caster, part.to_ray
     layout = build_layout(mesh, image_size=256)

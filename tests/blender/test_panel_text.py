@@ -34,7 +34,8 @@ def test_the_last_bake_box_pairs_each_label_with_its_value(addon):
     settings = bpy.context.scene.seamless_ao
     settings.last_bake_time, settings.last_bake_texels, settings.last_bake_rays = 33.5, 836482, 53012032
     settings.last_bake_utilisation, settings.last_bake_noise = 0.76, 0.01
-    assert last_bake_rows(settings) == [("Time", "33.5 s"), ("Texels", "836,482"), ("Rays", "53,012,032"),
+    settings.last_bake_quality = "Good, 256², 32 rays"
+    assert last_bake_rows(settings) == [("Quality", "Good"), ("Image", "256², 32 rays"), ("Time", "33.5 s"), ("Texels", "836,482"), ("Rays", "53,012,032"),
                                         ("Atlas use", "76%"), ("Noise (raw, 1σ)", "≈ 0.010")]
 
 
@@ -43,6 +44,7 @@ def test_every_text_of_every_panel_fits_the_default_sidebar(addon):
     the Last bake box at large figures (tests/support/panel_fit.py)."""
     settings = bpy.context.scene.seamless_ao
     settings.last_bake_summary, settings.last_bake_rays, settings.last_bake_texels = "baked", 53012032, 836482
+    settings.last_bake_quality = "Custom, 8192², 4096 rays"
     assert cut_texts(sidebar, DEFAULT_SIDEBAR_WIDTH) == []
 
 

@@ -24,7 +24,7 @@ def torus_layout():
 def run(layout, rays, weighted, adaptive=False):
     """The bake's own schedule of rays for the layout's texels (the ray setup as core/pipeline.py makes it),
     the torus lying on a ground plane, so its lower half is well occluded."""
-    settings = BakeSettings(rays=rays, adaptive=adaptive, auto_distance=False, max_distance=3.0,
+    settings = BakeSettings(quality="CUSTOM", rays=rays, adaptive=adaptive, auto_distance=False, max_distance=3.0,
                             use_ground_plane=True)
     part = ray_part(layout.mesh, np.eye(4), settings, BVHCaster)
     job = AOJob(TexelTargets(layout), [part], weighted=weighted)
@@ -145,7 +145,7 @@ def test_a_caster_that_shades_whole_texels_gets_every_ray_after_the_pilot(torus_
     ray by ray; the other rays of every texel go to ``ambient_occlusion`` and count with their number."""
     monkeypatch.setattr(job_module, "BULK_LEAST_RAYS", 1)           # the torus is small: hand it over anyway
     layout = torus_layout
-    settings = BakeSettings(rays=64, adaptive=adaptive, auto_distance=False, max_distance=3.0)
+    settings = BakeSettings(quality="CUSTOM", rays=64, adaptive=adaptive, auto_distance=False, max_distance=3.0)
     part = ray_part(layout.mesh, np.eye(4), settings,
                     lambda positions, triangles, sealed: WholeTexelCaster(positions, triangles, sealed))
     caster = part.caster
@@ -184,7 +184,7 @@ def test_a_small_part_keeps_its_rays_with_the_node_and_a_large_one_hands_them_ov
     texels_of = np.bincount(part_of, minlength=2)
     assert texels_of[0] > 4 * texels_of[1] > 0
     monkeypatch.setattr(job_module, "BULK_LEAST_RAYS", int(texels_of[0] + texels_of[1]) * left // 2)
-    settings = BakeSettings(rays=rays, adaptive=True, auto_distance=False, max_distance=3.0)
+    settings = BakeSettings(quality="CUSTOM", rays=rays, adaptive=True, auto_distance=False, max_distance=3.0)
 
     def bake(make_caster):
         parts = [ray_part(mesh, np.eye(4), settings, make_caster) for mesh in (large, small)]
@@ -214,7 +214,7 @@ def test_a_whole_texel_caster_shades_the_creases_too(monkeypatch):
     positions, triangles, _ = meshes.pierced_box()
     mesh = TriangleMesh.from_triangles(positions, triangles)
     layout = build_layout(mesh, image_size=128)
-    settings = BakeSettings(rays=64, auto_distance=False, max_distance=3.0)
+    settings = BakeSettings(quality="CUSTOM", rays=64, auto_distance=False, max_distance=3.0)
     part = ray_part(layout.mesh, np.eye(4), settings,
                     lambda positions, triangles, sealed: WholeTexelCaster(positions, triangles, sealed, 0.3))
     job = AOJob(TexelTargets(layout), [part])

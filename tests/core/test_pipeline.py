@@ -66,7 +66,7 @@ def test_parts_keep_their_triangles_and_see_what_the_occluders_give():
         other, matrix = (ring, lift) if part == 1 else (floor, drop)
         return [(other.positions @ matrix[:3, :3].T + matrix[:3, 3], other.triangles)]
 
-    settings = BakeSettings(rays=16, image_size=256, use_scene_occluders=True)
+    settings = BakeSettings(quality="CUSTOM", rays=16, image_size=256, use_scene_occluders=True)
     together = BakePipeline([ring, floor], [lift, drop], settings, BVHCaster, occluders).run()
     alone = BakePipeline([ring, floor], [lift, drop], settings.replace(use_scene_occluders=False), BVHCaster,
                          occluders).run()

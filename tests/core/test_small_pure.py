@@ -71,10 +71,10 @@ def test_vertex_average_means_corners_and_leaves_unused_vertices_open():
 
 
 def test_memory_estimate_grows_with_texels_and_pixels_and_is_refused_over_the_budget():
-    settings = BakeSettings(image_size=1024)
+    settings = BakeSettings(quality="CUSTOM", image_size=1024)
     pixels, texels = planned_size(settings, surface_area=123.0)
     assert pixels == 1024**2 and texels < pixels                      # the image size, whatever the area
-    dense = BakeSettings(size_mode="DENSITY", texel_density=100.0)
+    dense = BakeSettings(quality="CUSTOM", size_mode="DENSITY", texel_density=100.0)
     assert planned_size(dense, 2.0)[0] == pytest.approx(2 * planned_size(dense, 1.0)[0])
     assert estimated_bytes(1000, 2 * texels, pixels) > estimated_bytes(1000, texels, pixels)
     assert estimated_bytes(2000, texels, pixels) > estimated_bytes(1000, texels, pixels)
@@ -86,7 +86,7 @@ def test_memory_estimate_grows_with_texels_and_pixels_and_is_refused_over_the_bu
 def test_ao_params_follow_the_objects_size_and_lowest_point():
     positions = np.array([[0.0, 0.0, -2.0], [3.0, 4.0, 10.0], [1.0, 1.0, 1.0]])
     size = np.linalg.norm([3.0, 4.0, 12.0])
-    params = ao_params(BakeSettings(rays=32, use_ground_plane=True), positions)
+    params = ao_params(BakeSettings(quality="CUSTOM", rays=32, use_ground_plane=True), positions)
     assert params.rays == 32 and params.max_distance == pytest.approx(0.5 * size)
     assert params.offset == pytest.approx(1e-5 * size) and params.ground_height == -2.0
     fixed = ao_params(BakeSettings(auto_distance=False, max_distance=0.25), positions, rays=4)

@@ -44,6 +44,13 @@ def test_blenders_installer_installs_the_zip_and_the_tab_opens_with_a_click(arti
     assert steps["tab"]["category"] == "Seamless AO"
 
 
+def test_quality_comes_first_and_a_user_can_choose_a_preset(artist):
+    """Chosen with Ctrl+Wheel over the Quality menu, above the Bake button; the bake says what it took."""
+    quality, bake = artist[0]["quality"], artist[0]["bake"]
+    assert quality["quality"] == "DRAFT" and quality["quality_at"] > quality["bake_at"], quality
+    assert bake["last_bake_quality"] == "Draft, 256², 4 rays", bake
+
+
 def test_the_bake_button_bakes_on_timer_events_and_says_one_short_sentence(artist):
     bake = artist[0]["bake"]
     assert bake["plane_uv"][-3:] == ["AO_X", "AO_Y", "AO_Z"] and bake["image"], bake

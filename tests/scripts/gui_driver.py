@@ -133,6 +133,21 @@ def find(wanted, x_fraction=0.5, copy="ctrl+c"):
     raise RuntimeError("no button {!r} in the sidebar".format(wanted))
 
 
+def choose(name, value, x_fraction=0.75):
+    """Set the scene's setting ``name`` (a menu) to ``value`` with Ctrl+Wheel over its button, as a user can:
+    up until it shows, else down; returns the button's sidebar height."""
+    settings = bpy.context.scene.seamless_ao
+    y = yield from find("seamless_ao." + name, x_fraction, copy="ctrl+shift+c")
+    _, _, ui = regions()
+    for wheel in (4,) * 4 + (5,) * 8:                 # button 4: wheel up, 5: down
+        if getattr(settings, name) == value:
+            break
+        hover(ui, ui.width * x_fraction, y)
+        xdotool("keydown", "ctrl", "click", wheel, "keyup", "ctrl")
+        yield 0.2
+    return y
+
+
 def press(wanted, x_fraction=0.5, copy="ctrl+c"):
     y = yield from find(wanted, x_fraction, copy)
     _, _, ui = regions()
@@ -255,21 +270,25 @@ def artist():
     step("install", result=sorted(install), registered=hasattr(bpy.types, "OBJECT_OT_seamless_ao_bake"))
     suzanne, plane = the_scene()
     settings = bpy.context.scene.seamless_ao
-    settings.rays, settings.image_size = 16, 256          # a quick bake: the bench times the defaults
+    settings.rays, settings.image_size = 16, 256          # Custom's knobs, for the bakes below that use them
     start_window()
     yield 1.0
     yield from open_tab()
     step("tab", category=regions()[2].active_panel_category, screenshot=shot("panel"))
+    quality_at = yield from choose("quality", "DRAFT")   # a quick bake: the bench times the defaults
+    bake_at = yield from find("seamless_ao_bake()")
+    step("quality", quality=settings.quality, quality_at=quality_at, bake_at=bake_at)
 
     yield from press("seamless_ao_bake()")
     seconds, runs, longest = yield from wait_for_bake()
     step("bake", seconds=seconds, timer_runs=runs, longest_freeze=longest, plane_uv=plane.data.uv_layers.keys(),
          image=plane.get("seamless_ao_image"), last_bake_time=settings.last_bake_time,
+         last_bake_quality=settings.last_bake_quality,
          redo_panel=redo_panel_shown(), **cut_in_the_sidebar(),
          reports=recent_reports(), screenshot=shot("baked"))
 
     before = fingerprint()
-    settings.rays = 256                                   # long enough to be stopped midway
+    settings.quality, settings.rays = "CUSTOM", 256      # long enough to be stopped midway
     yield from press("seamless_ao_bake()")
     while not baking():
         yield 0.05
