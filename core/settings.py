@@ -68,10 +68,12 @@ CASTER_ITEMS = (
      "texel, Geometry Nodes otherwise".format(CLASSIC_AO, BULK_PILOT_RAYS)),
 )
 
-#: What each Quality preset bakes with: ``(image size, rays per texel)``.  Chosen from tests/bench/report.py's
-#: four meshes (docs/bench/report.md): each the cheapest fixed setting that met the preset's promise on most of
-#: them.  Not yet chosen from the mesh itself.
-PRESETS = {"DRAFT": (256, 4), "GOOD": (256, 32), "FINAL": (512, 32)}
+#: What each Quality preset bakes with: ``(image size, rays per texel)``.  Fixed settings for now, not yet chosen
+#: from the mesh: on tests/bench/report.py's four meshes (Suzanne, a 250k-triangle Suzanne, a 70k scan, a
+#: 1,300-piece interior) each is the cheapest tried that reaches the error its promise names (issue 52: Draft
+#: Cycles' 256², 16 samples; Good the best of Cycles' 512²; Final Cycles' 1024², 256 samples) on all four
+#: (docs/bench/report.md has the table).
+PRESETS = {"DRAFT": (256, 4), "GOOD": (320, 24), "FINAL": (384, 48)}
 QUALITY_ITEMS = (
     ("DRAFT", "Draft", "A quick look: {}² image, {} rays per texel".format(*PRESETS["DRAFT"])),
     ("GOOD", "Good", "For most uses: {}² image, {} rays per texel".format(*PRESETS["GOOD"])),
@@ -147,7 +149,8 @@ class BakeSettings(_Settings):
         "leaves them to you", items=QUALITY_ITEMS)
 
     # -- rays ------------------------------------------------------------------
-    rays: int = _setting(64, "Rays", "Rays cast per texel, with Quality Custom (the thesis' default is 64)", min=1, max=4096)
+    rays: int = _setting(64, "Rays", "Rays cast per texel, with Quality Custom (the thesis' default is 64)",
+                         min=1, max=4096)
     auto_distance: bool = _setting(
         True, "Automatic Distance",
         "Use half the bounding-box diagonal of the object's faces as the maximum ray distance (debris far "

@@ -35,7 +35,8 @@ def test_the_last_bake_box_pairs_each_label_with_its_value(addon):
     settings.last_bake_time, settings.last_bake_texels, settings.last_bake_rays = 33.5, 836482, 53012032
     settings.last_bake_utilisation, settings.last_bake_noise = 0.76, 0.01
     settings.last_bake_quality = "Good, 256², 32 rays"
-    assert last_bake_rows(settings) == [("Quality", "Good"), ("Image", "256², 32 rays"), ("Time", "33.5 s"), ("Texels", "836,482"), ("Rays", "53,012,032"),
+    assert last_bake_rows(settings) == [("Quality", "Good"), ("Image", "256², 32 rays"), ("Time", "33.5 s"),
+                                        ("Texels", "836,482"), ("Rays", "53,012,032"),
                                         ("Atlas use", "76%"), ("Noise (raw, 1σ)", "≈ 0.010")]
 
 
