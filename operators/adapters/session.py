@@ -113,7 +113,7 @@ class BakeSession:
         self.report = None
         self.started = time.perf_counter()
         bpy.context.evaluated_depsgraph_get()          # transforms set by a script are evaluated before the checks
-        check_objects(self.objects, settings)
+        check_objects(self.objects, self.settings)
 
     def steps(self):
         """Read, then core's pipeline step by step (here, or in a background process), then write; yields

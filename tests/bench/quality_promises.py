@@ -1,8 +1,7 @@
 """What each Quality preset promises against Blender's own route (issue 52), checked on measured runs.
 
-Pure over ``curves[(mesh, method)] = [(seconds, RMSE, label), ...]``, the shape report.py and
-bench_quality.py both keep: Cycles' runs under method ``"Cycles"`` labelled ``"<size>/<samples>"``, the presets'
-under :data:`PRESET_METHOD` labelled by their name.
+Pure over report.py's ``curves[(mesh, method)] = [(seconds, RMSE, label), ...]``: Cycles' runs under method
+``"Cycles"`` labelled ``"<size>/<samples>"``, the presets' under :data:`PRESET_METHOD` labelled by their name.
 """
 
 from common import markdown_table
