@@ -4,7 +4,9 @@ Pure over report.py's ``curves[(mesh, method)] = [(seconds, RMSE, label), ...]``
 ``"Cycles"`` labelled ``"<size>/<samples>"``, the presets' under :data:`PRESET_METHOD` labelled by their name.
 """
 
-from common import markdown_table
+#: The columns of :func:`promise_rows`.
+HEADERS = ("mesh", "preset", "ours: time, RMSE", "Cycles' level to reach", "Cycles' cheapest to it", "time allowed",
+           "kept")
 
 PRESET_METHOD = "Seamless AO, Quality"
 
@@ -18,8 +20,8 @@ PROMISES = (
 LIMIT_SECONDS = 1.0
 
 
-def promise_table(curves):
-    """The Markdown table of every mesh and preset, and ``(promises, kept)``."""
+def promise_rows(curves):
+    """One row (:data:`HEADERS`) per mesh and preset, and ``(promises, kept)``."""
     rows, counts = [], [0, 0]
     for mesh in list(dict.fromkeys(mesh for mesh, _ in curves)):
         cycles = curves.get((mesh, "Cycles"), [])
@@ -39,9 +41,7 @@ def promise_table(curves):
                          "{:.4f} ({})".format(level, " / ".join(t.replace("/", "²/") for t in targets)),
                          "{:.2f} s ({})".format(cheapest[0], cheapest[2].replace("/", "²/")),
                          "-" if limit is None else "{:.2f} s".format(limit), "yes" if kept else "**no**"])
-    table = markdown_table(["mesh", "preset", "ours: time, RMSE", "Cycles' level to reach", "Cycles' cheapest to it",
-                            "time allowed", "kept"], rows)
-    return table, tuple(counts)
+    return rows, tuple(counts)
 
 
 def promise_sentence(counts):

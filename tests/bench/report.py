@@ -47,7 +47,7 @@ import time
 import numpy as np
 
 from common import PAGES, finish, markdown_table, say, use_gpu
-from quality_promises import PRESET_METHOD, promise_sentence, promise_table
+from quality_promises import HEADERS as PROMISE_HEADERS, PRESET_METHOD, promise_rows, promise_sentence
 
 import bpy
 
@@ -439,11 +439,11 @@ def main():
     say("The rule (ours at most half of Cycles' time where Cycles takes at least {0:.0f} s, else at most {0:.0f} s) "
         "holds in {1} of {2} cells.".format(RULE_SECONDS, ruled, cells))
     say()
-    table, counts = promise_table(curves)
+    promises, counts = promise_rows(curves)
     say("The Quality presets (Seamless AO's default: Good) beside Cycles' cheapest route to the error each "
         "promises to reach:")
     say()
-    say(table)
+    say(markdown_table(PROMISE_HEADERS, promises))
     say()
     say(promise_sentence(counts))
 

@@ -1,5 +1,8 @@
 """The Quality setting (core/settings.py): what each preset bakes with, and when a bake is Custom."""
 
+import pathlib
+import sys
+
 import numpy as np
 import pytest
 
@@ -55,3 +58,21 @@ def test_the_pipeline_bakes_with_the_presets_size_and_rays():
     pipeline = BakePipeline([], [], BakeSettings(quality="FINAL"), BVHCaster)
     assert (pipeline.settings.image_size, pipeline.settings.rays) == PRESETS["FINAL"]
     assert np.isfinite(result.image).all()
+
+
+def test_the_report_checks_each_promise_against_cycles_cheapest_route():
+    """tests/bench/quality_promises.py on made-up runs: the level is Cycles' best of the settings a preset
+    names, the time allowed a share of Cycles' cheapest run at least that accurate (any setting)."""
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "bench"))
+    from quality_promises import PRESET_METHOD, promise_rows
+    cycles = [(0.3, 0.10, "256/16"), (1.0, 0.05, "512/16"), (4.0, 0.03, "512/64"), (3.0, 0.02, "1024/16"),
+              (9.0, 0.01, "1024/256")]
+    ours = [(0.9, 0.09, "Draft"), (1.4, 0.029, "Good"), (2.5, 0.0099, "Final")]
+    rows, counts = promise_rows({("scan", "Cycles"): cycles, ("scan", PRESET_METHOD): ours})
+    kept = {row[1]: (row[5], row[6]) for row in rows}
+    # Draft: 0.09 <= 0.10 and under 1 s on the scan; Good: 0.029 <= 0.03, but 1024²/16 reaches 0.02 in 3 s,
+    # so 1.5 s are allowed; Final: 0.0099 <= 0.01 in 2.5 s, a quarter of 9 s is 2.25 s
+    assert kept == {"Draft": ("1.00 s", "yes"), "Good": ("1.50 s", "yes"), "Final": ("2.25 s", "**no**")}
+    assert counts == (3, 2)
+    _, counts = promise_rows({("scan", "Cycles"): cycles, ("scan", PRESET_METHOD): [(0.1, 0.11, "Draft")]})
+    assert counts == (1, 0)                                             # fast, but short of Cycles' error
