@@ -231,16 +231,10 @@ def run_mesh(name, cache, out, rows, curves, timed_runs=3):
     bpy.data.images.remove(warm)
     seamless_bake(ob, image_size=256, rays=1)                   # replaced by the next bake
 
-    def cycles_median(image_size, samples):
-        return cycles_median_bake(ob, image_size, samples, distance, timed_runs)
-
-    def seamless_median(**settings):
-        return seamless_median_bake(ob, timed_runs, **settings)
-
     # Cycles first, so the last Seamless AO bake is still in place for the seam renders.
     kept = None
     for image_size, samples in CYCLES_RUNS[:1] if trivial else CYCLES_RUNS:
-        unwrap, bake, image = cycles_median(image_size, samples)
+        unwrap, bake, image = cycles_median_bake(ob, image_size, samples, distance, timed_runs)
         record("Cycles", "{}², {} samples".format(image_size, samples), unwrap + bake,
                "unwrap {:.2f} + bake {:.2f}".format(unwrap, bake),
                shown_single_uv(ob, image, UV_NAME, loops, triangle, bary),
@@ -261,7 +255,7 @@ def run_mesh(name, cache, out, rows, curves, timed_runs=3):
     if not trivial:                                    # Cycles' own warm-up is done; the caster's scene is not
         seamless_bake(ob, image_size=256, rays=16, ray_caster="CYCLES")
     for method, label, settings in runs:
-        seconds, image_name, stages = seamless_median(**settings)
+        seconds, image_name, stages = seamless_median_bake(ob, timed_runs, **settings)
         image = bpy.data.images[image_name]
         if method == PRESET_METHOD:
             label, settings = label.format(), dict(zip(("image_size", "rays"), PRESETS[settings["quality"]]))
