@@ -44,9 +44,9 @@ class AOJob:
     rays, a fraction of a second), so it can draw progress and react to ESC
     between batches.
 
-    When every part's caster can shade whole texels itself (a method
-    ``ambient_occlusion(points, normals, geometric, samples, params) -> (k,)
-    open fraction``: the Blender side's Cycles caster), each texel's first
+    When every part's caster can shade whole texels itself
+    (:attr:`.rays.RayCaster.bakes_whole_texels`, its ``ambient_occlusion``: the
+    Blender side's Cycles caster), each texel's first
     :data:`BULK_PILOT_RAYS` rays are cast ray by ray (they tell which texels
     are buried; the rays that find the creases are too), and the remaining
     rays of every texel, and all rays at the creases, are left to that
@@ -97,7 +97,7 @@ class AOJob:
         self.seconds = 0.0
         self.params = parts[0].params
         self.batch_rays = batch_rays
-        self.bulk = all(callable(getattr(part.caster, "ambient_occlusion", None)) for part in parts)
+        self.bulk = all(part.caster.bakes_whole_texels for part in parts)
         self.bulk_rays = BULK_FIRST_RAYS
         selected = targets.casting_order(np.flatnonzero(self.computed))
         halvings = targets.shares(self.computed, weighted)[selected]

@@ -143,10 +143,8 @@ class BakePipeline:
                 yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)
             # a caster that bakes whole texels but had too few rays to be given any cast them all as its pilot
             first = self.parts[0].caster
-            caster = first.name if job.whole_parts.any() else getattr(first, "pilot_name", first.name)
-            # what a caster has to tell the user (the Cycles caster: the GPU it was asked for was not there)
-            caster_warnings = list(dict.fromkeys(
-                warning for part in self.parts for warning in getattr(part.caster, "warnings", ())))
+            caster = first.name if job.whole_parts.any() else first.pilot_name
+            caster_warnings = list(dict.fromkeys(warning for part in self.parts for warning in part.caster.warnings))
             self.free()
             ao = job.ao
             seen = job.computed & ~job.buried

@@ -13,7 +13,7 @@ face belongs to a (nearly) closed piece (:mod:`.sealed`); and ``free()``.
 """
 
 from dataclasses import dataclass
-from typing import Callable, Protocol
+from typing import Callable
 
 import numpy as np
 
@@ -83,19 +83,43 @@ def rest_vertices(mesh):
     return np.unique(mesh.triangles[~mesh.stray])
 
 
-class RayCaster(Protocol):
-    """What casts a bake's rays (:class:`BVHCaster`, the Blender side's Geometry Nodes caster)."""
+class RayCaster:
+    """What casts a bake's rays; every caster derives from it (:class:`BVHCaster`, the Blender side's Geometry
+    Nodes and Cycles casters).  What a caster may do beyond :meth:`cast` is declared here, with what a caster
+    that cannot do it answers.
 
-    name: str
+    Attributes
+    ----------
+    name : str, the caster's ``ray_caster`` setting (``core/settings.py``'s ``CASTER_ITEMS``): settings, class
+        and the report's words (:func:`.settings.caster_words`) go by it
+    bakes_whole_texels : bool, whether :meth:`ambient_occlusion` computes whole texels (Cycles' AO bake);
+        :class:`.job.AOJob` then hands it every ray after each texel's pilot
+    warnings : list of str, what the caster has to tell the user (the Cycles caster: the GPU it was asked
+        for was not there)
+    """
+
+    name = ""
+    bakes_whole_texels = False
+    warnings = ()
+
+    @property
+    def pilot_name(self):
+        """The caster that casts each texel's first rays where this one bakes whole texels (itself if not)."""
+        return self.name
 
     def cast(self, origins, directions, max_distance):
         """``origins``, ``directions`` (n, 3) float64 -> ``distance`` (n,), ``facing`` (n,), ``sealed`` (n,) bool."""
+        raise NotImplementedError
+
+    def ambient_occlusion(self, points, normals, geometric, samples, params):
+        """The open fraction (k,) of ``samples`` rays at each point (k, 3), where :attr:`bakes_whole_texels`."""
+        raise NotImplementedError("the {} caster casts single rays only".format(self.name))
 
     def free(self):
         """Let go of what the caster holds (safe to call twice)."""
 
 
-class BVHCaster:
+class BVHCaster(RayCaster):
     """Ray caster over ``mathutils.bvhtree.BVHTree`` (a Python loop: about 0.5-0.8 M rays/s per core).
 
     Parameters
@@ -105,7 +129,7 @@ class BVHCaster:
     sealed : (t,) bool, optional, triangles of closed pieces (:mod:`.sealed`; none if not given)
     """
 
-    name = "bvh-loop"
+    name = "PYTHON_BVH"
 
     def __init__(self, positions, triangles, sealed=None):
         from mathutils.bvhtree import BVHTree

@@ -93,6 +93,15 @@ def implied_quality(given):
     return dict(given, quality="CUSTOM")
 
 
+def caster_words(name):
+    """What the bake report calls the caster ``name`` (a :data:`CASTER_ITEMS` identifier) that cast a bake's
+    rays: its label, and for Cycles the node's part too."""
+    labels = {identifier: label for identifier, label, _ in CASTER_ITEMS}
+    if name == "CYCLES":
+        return "{} (first rays) and {}".format(labels["GEOMETRY_NODES"], labels["CYCLES"])
+    return labels.get(name, name)
+
+
 SAVE_ITEMS = (
     ("NONE", "Packed Only", "Keep the image packed in the .blend only"),
     ("PNG", "16-bit PNG", "Also save the image as a 16-bit PNG next to the .blend"),

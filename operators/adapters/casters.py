@@ -1,5 +1,5 @@
 """The Blender side of a bake's rays: a ray caster on Blender's Geometry Nodes Raycast node (multi-threaded),
-which core's :class:`~...core.rays.RayCaster` protocol describes; the Cycles caster, the same plus Cycles' AO
+a :class:`~...core.rays.RayCaster`; the Cycles caster, the same plus Cycles' AO
 bake at texels (:mod:`.cycles_caster`); and :func:`caster_maker`, which picks one of them or core's
 ``BVHCaster`` for the settings.
 
@@ -18,12 +18,12 @@ import bpy
 import numpy as np
 
 from ...core.keys import TEMP_PREFIX
-from ...core.rays import BVHCaster
+from ...core.rays import BVHCaster, RayCaster
 from .cycles_caster import CyclesAmbientOcclusion
 from .mesh_data import mesh_from_triangles
 
 
-class NodesCaster:
+class NodesCaster(RayCaster):
     """Ray caster evaluated by Geometry Nodes.
 
     Parameters
@@ -33,7 +33,7 @@ class NodesCaster:
     sealed : (t,) bool, optional, triangles of closed pieces (core/sealed.py; none if not given)
     """
 
-    name = "geometry-nodes"
+    name = "GEOMETRY_NODES"
 
     def __init__(self, positions, triangles, sealed=None):
         self._datablocks = []
@@ -135,9 +135,15 @@ class CyclesCaster(CyclesAmbientOcclusion, NodesCaster):
     """The Cycles caster: :class:`NodesCaster` whose ``ambient_occlusion`` bakes Cycles' AO at given texels
     (:mod:`.cycles_caster`), which :class:`...core.job.AOJob` hands all but the pilot rays to."""
 
-    name = "cycles"
+    name = "CYCLES"
+    bakes_whole_texels = True
     #: What cast every ray when no part had enough rays left after the pilot for Cycles (core/job.py).
     pilot_name = NodesCaster.name
+
+    def __init__(self, positions, triangles, sealed=None):
+        super().__init__(positions, triangles, sealed)
+        # Cycles' device is asked for at its first bake: a bake whose rays all go to the node never asks
+        self.device, self.warnings = None, []
 
 
 def free_casters(casters):

@@ -77,8 +77,9 @@ def pixel_uv(count, width):
 
 class CyclesAmbientOcclusion:
     """``ambient_occlusion``, Cycles' AO baked at given texels, for a caster with a temporary ``scene``, its
-    ``occluder`` object and ``_keep`` (datablocks removed with the caster): :class:`.casters.CyclesCaster`
-    is :class:`.casters.NodesCaster` with it."""
+    ``occluder`` object, ``_keep`` (datablocks removed with the caster), ``device`` (None until the first
+    bake chooses it) and ``warnings``: :class:`.casters.CyclesCaster` is :class:`.casters.NodesCaster` with
+    it."""
 
     def ambient_occlusion(self, points, normals, geometric, samples, params):
         """Cycles' AO of ``samples`` rays at each point (k, 3), ray space: the open fraction (k,) in [0, 1].
@@ -95,9 +96,9 @@ class CyclesAmbientOcclusion:
         origins, geometric = ray_origins(points, normals, geometric, params.offset)
         corners = texel_triangles(origins, normals, geometric, TRIANGLE_SIZE * params.offset)
         uv, height = pixel_uv(count, IMAGE_WIDTH)
-        if getattr(self, "device", None) is None:
+        if self.device is None:
             self.device, warning = cycles_device()
-            self.warnings = [warning] if warning else []
+            self.warnings += [warning] if warning else []
         try:
             return self._bake(corners, uv, height, count, samples, params)
         except SeamlessAOError as error:

@@ -25,7 +25,7 @@ from ...core.handoff import outcome_numbers
 from ...core.keys import IMAGE_KEY
 from ...core.pipeline import BakePipeline
 from ...core.rays import world_reach
-from ...core.settings import BakeSettings
+from ...core.settings import BakeSettings, caster_words
 from ...core.viewport_uv import stands_off
 from ..background.client import BackgroundBake
 from .casters import caster_maker, free_casters
@@ -50,11 +50,6 @@ class BakedObject:
     viewport: Topology = None   # the surface the viewport evaluates, where its levels give another one
     viewport_part: int = None   # that surface's mesh in the pipeline, where it is baked too (it stands off)
     viewport_loops: np.ndarray = None   # (t, 3) int64, its corner of each of its triangles' corners
-
-
-#: What the bake report calls each caster (by its ``name``): with Ray Caster Automatic it says which one baked.
-CASTER_LABELS = {"geometry-nodes": "Geometry Nodes", "cycles": "Geometry Nodes (first rays) and Cycles",
-                 "bvh-loop": "Python BVH"}
 
 
 @dataclasses.dataclass
@@ -83,7 +78,7 @@ class BakeReport:
                "used".format(", ".join(self.objects), self.seconds, self.quality, self.width, self.height,
                              self.image, self.texels, self.rays, self.utilisation)
         text += ", ray noise before denoising about {:.3f}".format(self.noise)
-        text += ", rays cast by {}".format(CASTER_LABELS.get(self.caster, self.caster))
+        text += ", rays cast by {}".format(caster_words(self.caster))
         if self.mesh_problems:
             text += "; handled: " + ", ".join(self.mesh_problems)
         return text

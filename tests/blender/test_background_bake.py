@@ -65,7 +65,7 @@ def test_a_background_bake_writes_what_a_bake_here_writes(addon, fresh_scene):
             pass
         results.append(written(session, objects))
         if background:
-            assert session.report.caster == "geometry-nodes" and session.report.texels > 10000
+            assert session.report.caster == "GEOMETRY_NODES" and session.report.texels > 10000
             assert not os.path.exists(session.process.folder), "the process's folder was left behind"
     (pixels_here, uv_here), (pixels_there, uv_there) = results
     assert np.array_equal(pixels_here, pixels_there)

@@ -150,6 +150,10 @@ def test_the_automatic_caster_takes_cycles_where_it_can_and_the_node_where_it_ca
             assert report.texels * (32 - BULK_PILOT_RAYS) > BULK_LEAST_RAYS > report.texels * 2
     assert chosen == {"classic": CyclesCaster.name, "falloff": NodesCaster.name,
                       "pilot only": NodesCaster.name, "few": NodesCaster.name}, chosen
+    # one name per caster: the Ray Caster setting's
+    assert (CyclesCaster.name, NodesCaster.name) == ("CYCLES", "GEOMETRY_NODES")
+    assert CyclesCaster.bakes_whole_texels and not NodesCaster.bakes_whole_texels
+    assert CyclesCaster.pilot_name == NodesCaster.name
     assert "rays cast by Geometry Nodes (first rays) and Cycles" in addon.bake(
         [head], image_size=256, rays=32).summary()
 

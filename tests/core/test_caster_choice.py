@@ -33,3 +33,20 @@ def test_the_cycles_and_automatic_items_name_every_setting_cycles_needs():
     assert len(CYCLES_NEEDS) == 6
     for _, _, _, in_short in CYCLES_NEEDS:
         assert in_short in descriptions["CYCLES"] and in_short in descriptions["AUTOMATIC"], in_short
+
+
+def test_a_caster_declares_what_it_can_do_and_goes_by_its_settings_name():
+    """core/rays.py's RayCaster: a caster that only casts single rays says so when asked for whole texels, warns
+    of nothing, and credits its own rays; the report's words follow the Ray Caster items' labels."""
+    import numpy as np
+
+    from seamless_ao.core.rays import BVHCaster, RayCaster
+    from seamless_ao.core.settings import caster_words
+
+    caster = BVHCaster(np.eye(3), np.array([[0, 1, 2]]))
+    assert isinstance(caster, RayCaster) and BVHCaster.name in {item[0] for item in CASTER_ITEMS}
+    assert not caster.bakes_whole_texels and list(caster.warnings) == [] and caster.pilot_name == BVHCaster.name
+    with pytest.raises(NotImplementedError, match="PYTHON_BVH caster casts single rays only"):
+        caster.ambient_occlusion(np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), 4, None)
+    assert caster_words("PYTHON_BVH") == "Python BVH"
+    assert caster_words("CYCLES") == "Geometry Nodes (first rays) and Cycles"

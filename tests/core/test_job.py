@@ -124,6 +124,8 @@ class WholeTexelCaster(BVHCaster):
     """A BVH caster that also shades whole texels (as the Blender side's Cycles caster does): every texel
     it is asked for is open by ``open_fraction``; it records each call's texel count and samples."""
 
+    bakes_whole_texels = True
+
     def __init__(self, positions, triangles, sealed=None, open_fraction=0.25):
         super().__init__(positions, triangles, sealed)
         self.open_fraction = open_fraction
