@@ -87,8 +87,9 @@ class BakePipeline:
     settings : BakeSettings
     make_caster : callable ``(positions, triangles, sealed) -> RayCaster`` (:class:`.rays.BVHCaster`, or the
         Blender side's Geometry Nodes caster)
-    occluders : callable ``(part, low, high, reach) -> iterable of (world positions, triangles)``, optional
-        Scene geometry near mesh ``part``, when the settings ask for scene occluders.
+    occluders : list (one per mesh) of lists of ``(world positions (v, 3), triangles (t, 3))``, optional
+        The scene geometry within each mesh's ray reach (:func:`.rays.world_reach`), read once by the caller;
+        used when the settings ask for scene occluders.
     free_casters : callable ``(casters) -> None``, optional
         Frees several casters at once (the Blender side removes all their datablocks in one call); by
         default each caster's ``free()``.
@@ -132,9 +133,7 @@ class BakePipeline:
             self.check_memory(layout)
             yield 0.15, "Preparing rays"
             for index, (mesh, matrix) in enumerate(zip(self.meshes, self.matrices)):
-                near = None
-                if self.occluders is not None and settings.use_scene_occluders:
-                    near = (lambda low, high, reach, index=index: self.occluders(index, low, high, reach))
+                near = self.occluders[index] if self.occluders is not None and settings.use_scene_occluders else None
                 self.parts.append(ray_part(mesh, matrix, settings, self.make_caster, near))
             targets = TexelTargets(layout)
             job = AOJob(targets, self.parts, weighted=settings.weighted_rays)

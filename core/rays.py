@@ -214,12 +214,6 @@ class RayPart:
     to_ray: Callable = same_space
 
 
-#: ``occluders(low (3,), high (3,), reach) -> iterable of (world positions (v, 3), triangles (t, 3))``: the
-#: scene geometry within ``reach`` of the world box ``low``..``high`` (the Blender side reads it), each
-#: triangle wound counter-clockwise seen from the front in world space (:func:`world_winding`).
-Occluders = Callable
-
-
 def world_reach(mesh, matrix, settings):
     """``(low (3,), high (3,), reach)``: the world box of ``mesh`` placed by ``matrix`` (4, 4) and how far its
     rays reach (the maximum distance :func:`ao_params` gives it): what scene geometry can occlude it.  Both
@@ -238,8 +232,9 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     Ray space has the world's axes and scale (what the object looks like) with
     the mesh's bounding-box centre at the origin, so positions stay small for
     float32 BVHs even far from the world origin.  The caster is made from the
-    mesh in ray space, plus what ``occluders`` gives within the maximum ray
-    distance, and which triangles belong to sealed pieces (:mod:`.sealed`).
+    mesh in ray space, plus the ``occluders`` (the scene geometry within the
+    maximum ray distance: :func:`world_reach`), and which triangles belong to
+    sealed pieces (:mod:`.sealed`).
 
     Parameters
     ----------
@@ -247,7 +242,8 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     matrix : (4, 4) float, the object's world matrix
     settings : BakeSettings
     make_caster : callable ``(positions, triangles, sealed) -> RayCaster``
-    occluders : Occluders, optional (scene occluders, when the settings ask for them)
+    occluders : iterable of ``(world positions (v, 3), triangles (t, 3))``, optional: scene occluders, each
+        triangle wound counter-clockwise seen from the front in world space (:func:`world_winding`)
     rays : int, optional, overrides the settings' ray count
     """
     matrix = np.asarray(matrix, dtype=np.float64)
@@ -259,7 +255,7 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     positions, triangles = [own], [world_winding(mesh.triangles, matrix[:3, :3])]
     if occluders is not None:
         shift = matrix[:3, :3] @ centre + matrix[:3, 3]               # ray space + shift = world
-        for world_positions, other_triangles in occluders(*world_reach(mesh, matrix, settings)):
+        for world_positions, other_triangles in occluders:
             triangles.append(other_triangles + sum(len(p) for p in positions))
             positions.append(world_positions - shift)
     positions, triangles = np.concatenate(positions), np.concatenate(triangles)

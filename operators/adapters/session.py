@@ -120,11 +120,9 @@ class BakeSession:
                 outcome = yield from self._steps_in_background(meshes, occluders)
                 numbers = outcome.numbers
             else:
-                # Each part's occluders were read and culled to its ray reach in _read_meshes (the depsgraph is
-                # only at hand there), so the pipeline's (low, high, reach) arguments are not needed again.
+                # each part's occluders were read and culled to its ray reach in _read_meshes
                 self.pipeline = BakePipeline([arrays.mesh() for arrays in meshes], self.matrices, self.settings,
-                                             caster_maker(self.settings), lambda part, *_: occluders[part],
-                                             free_casters, self._shown())
+                                             caster_maker(self.settings), occluders, free_casters, self._shown())
                 yield from self.pipeline.steps()
                 outcome = self.pipeline.result
                 numbers = outcome_numbers(outcome)

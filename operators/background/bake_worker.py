@@ -19,7 +19,7 @@ def main(argv):
     try:
         meshes, matrices, occluders, settings, shown = read_job(folder)
         pipeline = BakePipeline(meshes, matrices, settings, caster_maker(settings),
-                                lambda part, *_: occluders[part], free_casters, shown)
+                                occluders, free_casters, shown)
         for fraction, message in pipeline.steps():
             write_progress(folder, fraction, message)
         write_outcome(folder, pipeline.result, len(meshes))
