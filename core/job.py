@@ -132,6 +132,22 @@ class AOJob:
     def fraction(self):
         return min(1.0, self.work_done / max(self.work_expected, 1)) if not self.finished else 1.0
 
+    @property
+    def seen(self):
+        """(n,) bool: the texels that got rays and are not buried (their AO means something)."""
+        return self.computed & ~self.buried
+
+    def noise_texels(self):
+        """(n,) bool: the texels whose rays tell their variance: seen, and not settled by the adaptive stop
+        (which says nothing of it) unless their pilot was all their rays."""
+        return self.seen & ~(self.settled & (self.pilot_count < self.ray_count))
+
+    def caster_name(self):
+        """The name of the caster that cast the rays: the first part's, or its pilot's where it bakes whole
+        texels but no part had rays enough to be given any (they were all cast as its pilot)."""
+        first = self.parts[0].caster
+        return first.name if self.whole_parts.any() else first.pilot_name
+
     def step(self):
         """Compute the next batch; returns the fraction done."""
         if self.finished:

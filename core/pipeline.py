@@ -140,27 +140,22 @@ class BakePipeline:
             while not job.finished:
                 fraction = job.step()
                 yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)
-            # a caster that bakes whole texels but had too few rays to be given any cast them all as its pilot
-            first = self.parts[0].caster
-            caster = first.name if job.whole_parts.any() else first.pilot_name
             caster_warnings = list(dict.fromkeys(warning for part in self.parts for warning in part.caster.warnings))
             self.free()
-            ao = job.ao
-            seen = job.computed & ~job.buried
-            # a texel the adaptive stop settled says nothing of its variance, unless its pilot was all its rays
-            sampled = seen & ~(job.settled & (job.pilot_count < job.ray_count))
+            ao, sampled, timings = job.ao, job.noise_texels(), dict(layout.timings)
             noise = noise_estimate(ao[sampled], job.ray_count[sampled], layout.texels.next_in_row(
                 layout.atlas.member_chart[layout.texels.member], sampled))
             if settings.denoise:
                 yield 0.95, "Denoising"
                 start = time.perf_counter()
-                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, seen, job.ray_count,
+                ao = denoise(layout.texels, layout.atlas, layout.mesh, ao, job.seen, job.ray_count,
                              geometry=targets.geometry)
-                layout.timings["denoise"] = time.perf_counter() - start
+                timings["denoise"] = time.perf_counter() - start
             self.result = BakeResult(
                 layout=layout, image=texel_image(layout.texels, ao, job.computed), texel_ao=ao,
                 computed=job.computed, buried=job.buried, ray_count=job.ray_count, texels=job.total,
-                rays=job.rays_cast, noise=noise, caster=caster, timings=dict(layout.timings, rays=job.seconds),
+                rays=job.rays_cast, noise=noise, caster=job.caster_name(),
+                timings=dict(timings, rays=job.seconds),
                 warnings=list(layout.atlas.warnings) + caster_warnings)
             if any(surface is not None for surface in self.shown):
                 yield 0.97, "UV maps for the viewport's surface"
