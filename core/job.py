@@ -7,6 +7,7 @@ each texel's atlas neighbours too (see :func:`.ao.settle_pilot`).
 """
 
 import time
+from typing import NamedTuple
 
 import numpy as np
 
@@ -32,6 +33,15 @@ BULK_LEAST_RAYS = 1 << 18
 
 #: No texel gets fewer rays than this when its share is cut.
 MIN_SHARED_RAYS = 4
+
+
+class RayPass(NamedTuple):
+    """Some texels' rays, cast in one go (in batches) before the job moves on to the next pass."""
+
+    texels: np.ndarray              # (k,) int, target indices, in casting order
+    rays: np.ndarray                # (r,) int, which of each texel's ray directions
+    given: tuple = None             # (points, normals, geometric) (k, 3) each, where not the targets' own
+    whole: bool = False             # handed to the casters' ambient_occlusion (whole texels), not ray by ray
 
 
 class AOJob:
@@ -106,8 +116,8 @@ class AOJob:
         whole = self.whole_parts[targets.part_of(selected)]
         self.ray_count = np.zeros(count, dtype=np.int64)
         self.pilot_count = np.zeros(count, dtype=np.int64)
-        self.passes = []                     # [texels, ray indices, given points, whole], in casting order
-        self.remaining = []                  # per class: (its texels, its ray indices after the pilot, whole)
+        self.passes = []                     # RayPass, in casting order
+        self.remaining = []                  # per class: its RayPass after the pilot (not yet thinned)
         for halving in np.unique(halvings):
             for by_whole in (True, False):
                 members = selected[(halvings == halving) & (whole == by_whole)]
@@ -117,8 +127,8 @@ class AOJob:
                 pilot = min(count, BULK_PILOT_RAYS) if by_whole else pilot_rays(count, self.params.adaptive)
                 self.ray_count[members] = count
                 self.pilot_count[members] = pilot
-                self.passes.append([members, np.arange(pilot), None, False])
-                self.remaining.append((members, np.arange(pilot, count), by_whole))
+                self.passes.append(RayPass(members, np.arange(pilot)))
+                self.remaining.append(RayPass(members, np.arange(pilot, count), whole=by_whole))
         self.pilot = True
         self.position = 0
         self.work_done = 0
@@ -153,11 +163,11 @@ class AOJob:
         if self.finished:
             return 1.0
         start = time.perf_counter()
-        queue, rays, where, whole = self.passes[0]
-        if whole:
+        queue, rays = self.passes[0].texels, self.passes[0].rays
+        if self.passes[0].whole:
             return self._bulk_step(start)
         batch = queue[self.position:self.position + max(1, self.batch_rays // max(len(rays), 1))]
-        for selection, ray_part, (points, normals, geometric) in self._batch_by_part(batch, where):
+        for selection, ray_part, (points, normals, geometric) in self._batch_by_part(batch, self.passes[0].given):
             sums, behind = occlusion_sums(points, normals, geometric, self.targets.ids[selection], rays,
                                           ray_part.params, ray_part.caster)
             self.sums[selection] += sums
@@ -194,10 +204,9 @@ class AOJob:
 
     def _bulk_step(self, start):
         """A batch of texels' remaining rays, shaded by their parts' casters' ``ambient_occlusion``."""
-        queue, rays, where, _ = self.passes[0]
-        samples = len(rays)
+        queue, samples = self.passes[0].texels, len(self.passes[0].rays)
         batch = queue[self.position:self.position + max(1, self.bulk_rays // max(samples, 1))]
-        for selection, ray_part, (points, normals, geometric) in self._batch_by_part(batch, where):
+        for selection, ray_part, (points, normals, geometric) in self._batch_by_part(batch, self.passes[0].given):
             open_fraction = ray_part.caster.ambient_occlusion(points, normals, geometric, samples, ray_part.params)
             self.sums[selection] += (1.0 - np.clip(np.nan_to_num(open_fraction), 0.0, 1.0)) * samples
         self.bulk_rays = self._next(queue, len(batch), samples, start, self.bulk_rays, BULK_STEP_SECONDS, 1 << 26)
@@ -255,8 +264,8 @@ class AOJob:
         for by_whole in (True, False):
             mine = whole == by_whole
             if mine.any():
-                self.passes.append([rim[mine], np.arange(self.params.rays),
-                                    (points[mine], normals[mine], geometric[mine]), by_whole])
+                self.passes.append(RayPass(rim[mine], np.arange(self.params.rays),
+                                           (points[mine], normals[mine], geometric[mine]), by_whole))
         self.work_expected = self.work_done + len(rim) * self.params.rays
 
     def _ray_geometry(self, ray_part, selection):
@@ -270,7 +279,7 @@ class AOJob:
         self.pilot = False
         ask = self.targets.neighbours_agree
         # the adaptive stop, for the texels whose parts keep their rays ray by ray
-        stoppable = [members for members, _, whole in self.remaining if not whole]
+        stoppable = [remaining.texels for remaining in self.remaining if not remaining.whole]
         if stoppable:
             selection = np.concatenate(stoppable)
             sums = self.sums[selection]                  # settle_pilot scales the sums of the texels it stops
@@ -279,12 +288,12 @@ class AOJob:
                                    rays=self.ray_count[selection])
             self.sums[selection] = sums
             self.settled[selection[decided]] = True
-        for members, rays, whole in self.remaining:
-            todo = members[~self.settled[members]]
-            if len(rays) and len(todo):
-                self.passes.append([todo, rays, None, whole])
+        for remaining in self.remaining:
+            todo = remaining.texels[~self.settled[remaining.texels]]
+            if len(remaining.rays) and len(todo):
+                self.passes.append(remaining._replace(texels=todo))
         self.remaining = []
-        self.work_expected = self.work_done + sum(len(texels) * len(rays) for texels, rays, _, _ in self.passes)
+        self.work_expected = self.work_done + sum(len(p.texels) * len(p.rays) for p in self.passes)
 
     def _whole_texel_parts(self, selected, counts):
         """(parts,) bool: the parts whose rays after the pilot go to their caster's ``ambient_occlusion``:
