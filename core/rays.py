@@ -4,7 +4,8 @@ Everything here is the bpy-free half of a bake's ray setup; the Blender side
 only reads scene occluders and makes its Geometry Nodes caster
 (``operators/adapters/casters.py``).
 
-A *caster* is any object of the :class:`RayCaster` protocol:
+A *caster* is a :class:`RayCaster`, which also declares what a caster may do
+beyond casting single rays:
 ``cast(origins (n, 3), directions (n, 3), max_distance) -> (distance (n,), facing (n,), sealed (n,))``,
 ``distance`` ``inf`` for a miss, ``facing`` the dot product of the hit face's
 normal with the ray (> 0: the ray hit a back face), ``sealed`` whether the hit
