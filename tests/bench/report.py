@@ -245,28 +245,29 @@ def run_mesh(name, cache, out, rows, curves, timed_runs=3):
         kept = image
     # Undenoised and Cycles-cast first, so the last bake left on the object (for the seam renders) is a
     # default one.
-    runs = [(OURS_RAW, "{}², {} rays", dict(image_size=size, rays=rays, denoise=False, ray_caster="GEOMETRY_NODES"))
+    def sized(method, size, rays, **extra):
+        """A run at an image size and rays: ``(method, its setting in the table, its plot label, settings)``."""
+        return method, "{}², {} rays".format(size, rays), "{}/{}".format(size, rays), \
+            dict(image_size=size, rays=rays, **extra)
+
+    runs = [sized(OURS_RAW, size, rays, denoise=False, ray_caster="GEOMETRY_NODES")
             for size, rays in ([] if trivial else RAW_RUNS)]
-    runs += [(OURS_CYCLES, "{}², {} rays", dict(image_size=size, rays=rays, ray_caster="CYCLES"))
+    runs += [sized(OURS_CYCLES, size, rays, ray_caster="CYCLES")
              for size, rays in ([] if trivial else CYCLES_CASTER_RUNS)]
-    runs += [(PRESET_METHOD, label, dict(quality=quality)) for quality, label, _ in QUALITY_ITEMS if quality in PRESETS]
-    runs += [(OURS, "{}², {} rays", dict(image_size=size, rays=rays, ray_caster="GEOMETRY_NODES"))
+    runs += [(PRESET_METHOD, "{} ({}², {} rays)".format(label, *PRESETS[quality]), label, dict(quality=quality))
+             for quality, label, _ in QUALITY_ITEMS if quality in PRESETS]
+    runs += [sized(OURS, size, rays, ray_caster="GEOMETRY_NODES")
              for size, rays in (SEAMLESS_RUNS[:1] if trivial else SEAMLESS_RUNS)]
     if not trivial:                                    # Cycles' own warm-up is done; the caster's scene is not
         seamless_bake(ob, image_size=256, rays=16, ray_caster="CYCLES")
-    for method, label, settings in runs:
+    for method, setting, curve_label, settings in runs:
         seconds, image_name, stages = seamless_median_bake(ob, timed_runs, **settings)
         image = bpy.data.images[image_name]
-        if method == PRESET_METHOD:
-            label, settings = label.format(), dict(zip(("image_size", "rays"), PRESETS[settings["quality"]]))
-        setting = "{} ({}², {} rays)".format(label, settings["image_size"], settings["rays"]) \
-            if method == PRESET_METHOD else label.format(settings["image_size"], settings["rays"])
         record(method, setting,
                seconds, " + ".join("{} {:.2f}".format(k, v) for k, v in stages.items()),
                shown_seamless(ob, image, loops, triangle, bary, normals),
                lambda t, b, image=image: shown_seamless(ob, image, loops, t, b, point_normals(mesh, t, b)),
-               [uv_layer_array(ob.data, n) for n in ("AO_X", "AO_Y", "AO_Z")],
-               label if method == PRESET_METHOD else "{}/{}".format(settings["image_size"], settings["rays"]))
+               [uv_layer_array(ob.data, n) for n in ("AO_X", "AO_Y", "AO_Z")], curve_label)
     if name == "suzanne":
         seam_renders(ob, out, kept)
 
