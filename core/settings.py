@@ -93,13 +93,19 @@ def implied_quality(given):
     return dict(given, quality="CUSTOM")
 
 
+def item_label(items, identifier):
+    """The label of enum item ``identifier`` among ``items`` (``(identifier, label, description)`` triples);
+    the identifier itself if none has it."""
+    return next((label for name, label, _ in items if name == identifier), identifier)
+
+
 def caster_words(name):
     """What the bake report calls the caster ``name`` (a :data:`CASTER_ITEMS` identifier) that cast a bake's
     rays: its label, and for Cycles the node's part too."""
-    labels = {identifier: label for identifier, label, _ in CASTER_ITEMS}
     if name == "CYCLES":
-        return "{} (first rays) and {}".format(labels["GEOMETRY_NODES"], labels["CYCLES"])
-    return labels.get(name, name)
+        return "{} (first rays) and {}".format(item_label(CASTER_ITEMS, "GEOMETRY_NODES"),
+                                               item_label(CASTER_ITEMS, "CYCLES"))
+    return item_label(CASTER_ITEMS, name)
 
 
 SAVE_ITEMS = (
@@ -117,7 +123,6 @@ class _Settings:
         """Build validated settings from keyword arguments; unknown names are an error."""
         names = {f.name for f in dataclasses.fields(cls)}
         unknown = sorted(set(kwargs) - names)
-        kwargs = implied_quality(kwargs) if "quality" in names else kwargs
         if unknown:
             raise SeamlessAOError(
                 "Unknown setting{} {}; valid settings are: {}".format(
@@ -129,7 +134,7 @@ class _Settings:
     def replace(self, **kwargs):
         """A validated copy with some settings changed."""
         merged = dataclasses.asdict(self)
-        merged.update(implied_quality(kwargs) if "quality" in merged else kwargs)
+        merged.update(kwargs)
         return type(self).from_kwargs(**merged)
 
     def validate(self):
@@ -205,8 +210,10 @@ class BakeSettings(_Settings):
         60.0, "Compare Angle",
         "A face joins an axis chart when its normal is within this angle of the axis (more = more overlap)",
         min=30.0, max=85.0, unit="°")
-    size_mode: str = _setting("IMAGE_SIZE", "Resolution By", "How the image resolution is chosen, with Quality Custom", items=SIZE_MODE_ITEMS)
-    image_size: int = _setting(1024, "Image Size", "Width and height of the AO image, with Quality Custom", min=256, max=8192, unit="texels")
+    size_mode: str = _setting("IMAGE_SIZE", "Resolution By", "How the image resolution is chosen, with Quality Custom",
+                              items=SIZE_MODE_ITEMS)
+    image_size: int = _setting(1024, "Image Size", "Width and height of the AO image, with Quality Custom",
+                               min=256, max=8192, unit="texels")
     texel_density: float = _setting(
         256.0, "Texel Density", "Texels per scene unit (used when Resolution By is Texel Density)",
         min=1.0e-6, max=1.0e9, unit="texels per scene unit")
@@ -240,6 +247,16 @@ class BakeSettings(_Settings):
                 "Geometry Nodes caster.".format(name, getattr(self, name), reason, needed))
         return self
 
+    @classmethod
+    def from_kwargs(cls, **kwargs):
+        """Validated settings from keyword arguments; rays or a size without a Quality mean Custom
+        (:func:`implied_quality`)."""
+        return super().from_kwargs(**implied_quality(kwargs))
+
+    def replace(self, **kwargs):
+        """A validated copy with some settings changed; new rays or a size without a Quality mean Custom."""
+        return super().replace(**implied_quality(kwargs))
+
     def resolved(self):
         """These settings with the Quality preset's image size and rays filled in (``self`` when Custom): what
         a bake reads."""
@@ -253,7 +270,7 @@ class BakeSettings(_Settings):
     def chosen(self, width, height):
         """The Quality and what the bake took, in a few words for the report: "Good, 256², 32 rays" (``width``
         and ``height``: the image's texels, which the layout chooses with Texel Density)."""
-        label = {item[0]: item[1] for item in QUALITY_ITEMS}[self.quality]
+        label = item_label(QUALITY_ITEMS, self.quality)
         size = "{}²".format(width) if width == height else "{}×{}".format(width, height)
         return "{}, {}, {} rays".format(label, size, self.resolved().rays)
 

@@ -2,7 +2,7 @@
 
 import bpy
 
-from ..core.settings import CYCLES_NEEDS, QUALITY_ITEMS
+from ..core.settings import CYCLES_NEEDS, PRESET_CHOOSES, QUALITY_ITEMS, item_label
 from ..operators.adapters.scene_settings import automatic_caster_line
 from ..operators.ui.poll import stale_bakes
 from .text import wrapped_labels
@@ -38,10 +38,11 @@ class SubPanel(SidebarPanel):
 
     @staticmethod
     def setting_row(column, settings, name):
-        """One setting; greyed out (still editable: the bake then says why it refuses) where the chosen ray
-        caster cannot follow it."""
+        """One setting; greyed out (still editable: the bake then says why it refuses, or leaves it) where the
+        chosen ray caster cannot follow it, or where the Quality preset chooses it."""
         row = column.row()
-        row.active = not (settings.ray_caster == "CYCLES" and name in NOT_FOR_CYCLES)
+        row.active = not (settings.ray_caster == "CYCLES" and name in NOT_FOR_CYCLES or
+                          settings.quality != "CUSTOM" and name in PRESET_CHOOSES)
         row.prop(settings, name)
 
 
@@ -92,22 +93,11 @@ class VIEW3D_PT_seamless_ao_advanced(SubPanel, bpy.types.Panel):
         settings = context.scene.seamless_ao
         if settings.quality != "CUSTOM":
             wrapped_labels(self.layout, context, "Quality {} chooses the rays and the image size; Custom leaves "
-                           "them to you.".format(preset_label(settings.quality)), icon="INFO")
-
-
-def preset_label(quality):
-    return {item[0]: item[1] for item in QUALITY_ITEMS}[quality]
+                           "them to you.".format(item_label(QUALITY_ITEMS, settings.quality)), icon="INFO")
 
 
 class AdvancedPanel(SubPanel):
     bl_parent_id = "VIEW3D_PT_seamless_ao_advanced"
-
-    @staticmethod
-    def chosen_row(column, settings, name):
-        """A setting the Quality preset chooses: greyed out unless Custom."""
-        row = column.row()
-        row.active = settings.quality == "CUSTOM"
-        row.prop(settings, name)
 
 
 class VIEW3D_PT_seamless_ao_rays(AdvancedPanel, bpy.types.Panel):
@@ -116,7 +106,7 @@ class VIEW3D_PT_seamless_ao_rays(AdvancedPanel, bpy.types.Panel):
 
     def draw(self, context):
         column, settings = self.settings_column(context)
-        self.chosen_row(column, settings, "rays")
+        self.setting_row(column, settings, "rays")
         column.prop(settings, "auto_distance")
         row = column.row()
         row.enabled = not settings.auto_distance
@@ -141,8 +131,8 @@ class VIEW3D_PT_seamless_ao_image(AdvancedPanel, bpy.types.Panel):
 
     def draw(self, context):
         column, settings = self.settings_column(context)
-        self.chosen_row(column, settings, "size_mode")
-        self.chosen_row(column, settings, "image_size" if settings.size_mode == "IMAGE_SIZE" else "texel_density")
+        self.setting_row(column, settings, "size_mode")
+        self.setting_row(column, settings, "image_size" if settings.size_mode == "IMAGE_SIZE" else "texel_density")
         for name in ("padding", "compare_angle", "memory_budget_mb"):
             column.prop(settings, name)
 

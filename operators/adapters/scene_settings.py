@@ -3,7 +3,7 @@ the core's :class:`~...core.settings.BakeSettings` and ``ExportSettings``."""
 
 from ...core.errors import SeamlessAOError
 from ...core.settings import (CASTER_ITEMS, BakeSettings, ExportSettings, export_fields, implied_quality,
-                              setting_fields)
+                              item_label, setting_fields)
 
 
 def settings_from(source, overrides=None):
@@ -28,7 +28,7 @@ def automatic_caster_line(source):
         caster, why = settings_from(source).caster_choice()
     except SeamlessAOError:
         return None
-    label = {item[0]: item[1] for item in CASTER_ITEMS}[caster]
+    label = item_label(CASTER_ITEMS, caster)
     return "Automatic: {}, {}".format(label, why)
 
 

@@ -100,7 +100,7 @@ class BakeSession:
 
     def __init__(self, objects, settings, scene=None, background=False):
         self.objects = list(objects)
-        self.settings = settings.resolved()            # the Quality preset's image size and rays filled in
+        self.settings = settings
         self.scene = scene or bpy.context.scene
         self.background = background
         self.pipeline = None
