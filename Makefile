@@ -77,7 +77,8 @@ test:
 	$(MAKE) --no-print-directory test-real; \
 	if [ -n "$$missing" ]; then echo "== Tested Blender $${available:-none}; skipped $$missing (no Python for it here)"; fi
 
-test-one: .venv/$(BLENDER)/.installed wheels/.downloaded .node/.installed
+# Blender 5.0, which runs the heavy tests, also gets Dask for the farm tests (requirements/farm.txt).
+test-one: .venv/$(BLENDER)/.installed wheels/.downloaded .node/.installed $(if $(filter 5.0,$(BLENDER)),.venv/5.0/.farm)
 	@echo "== Blender $(BLENDER): pytest"
 	$(call venv_python,$(BLENDER)) -m pytest tests --ignore=tests/real_blender $(PYTEST_ARGS)
 
@@ -110,7 +111,13 @@ test-gui:
 test-fast: .venv/5.0/.installed
 	$(call venv_python,5.0) -m pytest tests/core $(PYTEST_ARGS)
 
-.venv/5.0/.bench: .venv/5.0/.installed requirements/bench.txt
+.venv/5.0/.farm: .venv/5.0/.installed requirements/farm.txt
+	@echo "== Blender 5.0: Dask for the batch on a cluster (requirements/farm.txt)"
+	.venv/5.0/bin/python -m pip download --quiet --only-binary=:all: -d "$(WHEELHOUSE)" -r requirements/farm.txt -r requirements/blender-5.0.txt
+	.venv/5.0/bin/python -m pip install --quiet --no-index --find-links "$(WHEELHOUSE)" -r requirements/farm.txt -r requirements/blender-5.0.txt
+	touch $@
+
+.venv/5.0/.bench: .venv/5.0/.installed .venv/5.0/.farm requirements/bench.txt
 	.venv/5.0/bin/python -m pip download --quiet --only-binary=:all: -d "$(WHEELHOUSE)" -r requirements/bench.txt -r requirements/blender-5.0.txt
 	.venv/5.0/bin/python -m pip install --quiet --no-index --find-links "$(WHEELHOUSE)" -r requirements/bench.txt -r requirements/blender-5.0.txt
 	touch $@
@@ -118,7 +125,7 @@ test-fast: .venv/5.0/.installed
 # Every benchmark writes its page into docs/bench/; the last step assembles docs/benchmarks.md.
 BENCHES ?= report bench_fixed_cost bench_atlas_space bench_atlas bench_rays bench_million bench_clustering bench_assets bench_buried bench_concave \
            bench_blotch bench_adaptive bench_weighted bench_conventions bench_memory bench_occluders bench_objects \
-           bench_batch bench_cycles_margin bench_cycles_engine bench_cycles_caster bench_rings bench_denoise bench_viewport bench_window
+           bench_batch bench_farm bench_cycles_margin bench_cycles_engine bench_cycles_caster bench_rings bench_denoise bench_viewport bench_window
 
 bench: .venv/5.0/.bench
 	@for b in $(BENCHES); do echo "== $$b"; $(call venv_python,5.0) tests/bench/$$b.py; done

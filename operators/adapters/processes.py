@@ -10,6 +10,7 @@ import sys
 
 import bpy
 
+from ..batch.asset_process import launch_command, user_folders_moved
 from .cycles_device import environment_entry
 
 PACKAGE_ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -17,20 +18,13 @@ PACKAGE_ROOT = pathlib.Path(__file__).resolve().parents[2]
 #: copy is never registered twice), then the entry point named first in its arguments.
 LAUNCHER = PACKAGE_ROOT / "operators" / "standalone" / "launch.py"
 
-#: Environment variables through which Blender would find the user's own folders (preferences, startup file,
-#: scripts, extensions); a process of ours gets none of them.
-USER_FOLDER_VARIABLES = ("BLENDER_USER_RESOURCES", "BLENDER_USER_CONFIG", "BLENDER_USER_SCRIPTS",
-                         "BLENDER_USER_DATAFILES", "BLENDER_USER_EXTENSIONS")
-
 
 def process_command(*arguments):
     """The command line that runs :mod:`..standalone.launch` with ``arguments``: background Blender with
     factory settings and no auto-run scripts, or this Python when ``bpy`` is the module."""
     binary = bpy.app.binary_path
-    if binary and not os.path.basename(binary).startswith("python"):
-        return [binary, "--background", "--factory-startup", "--disable-autoexec", "--python", str(LAUNCHER),
-                "--", *map(str, arguments)]
-    return [sys.executable, str(LAUNCHER), *map(str, arguments)]
+    return launch_command(binary if binary and not os.path.basename(binary).startswith("python") else sys.executable,
+                          LAUNCHER, *arguments)
 
 
 def process_environment(scratch):
@@ -43,7 +37,6 @@ def process_environment(scratch):
     sees disabled there, this one's among them, from under the user's Blender and the other processes.  For
     the same reason it would see no GPU in Cycles' preferences: this process's go with it
     (:mod:`.cycles_device`)."""
-    environment = {name: value for name, value in os.environ.items() if name not in USER_FOLDER_VARIABLES}
     paths = [p for p in sys.path if p and os.path.isdir(p)]
-    return dict(environment, BLENDER_USER_RESOURCES=os.path.join(scratch, "blender_user"),
-                SEAMLESS_AO_PATHS=os.pathsep.join(paths), **environment_entry())
+    return dict(user_folders_moved(os.environ, scratch), SEAMLESS_AO_PATHS=os.pathsep.join(paths),
+                **environment_entry())

@@ -6,7 +6,8 @@ a crash or a refused mesh costs one asset, never the batch, and the cores
 are used even where a bake runs on one.  Workers are Blender itself
 (``bpy.app.binary_path --background --factory-startup --disable-autoexec``)
 or, under the bpy module, the same Python; either way they load this package
-from its own folder and never run anything an asset carries.
+from its own folder and never run anything an asset carries.  With a Dask
+scheduler's address the workers are a cluster's instead (:mod:`.farm`).
 """
 
 import dataclasses
@@ -22,6 +23,8 @@ from ...core.assets import (AssetRecord, drop_outputs, find_assets, plan_outputs
 from ...core.errors import SeamlessAOError
 from ...core.settings import DOMAIN_ITEMS, BakeSettings, ExportSettings
 from ..adapters.processes import process_command, process_environment
+from .asset_process import read_record, timed_out_record, write_worker_job
+from .farm import run_on_cluster
 
 REPORT_VERSION = 1
 #: Which UV map a glTF's AO rides on (see :func:`batch`).
@@ -38,7 +41,7 @@ def worker_command(job_path):
 def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, uv_policy="auto",
           color_attribute=None, texture_size=EXPORT_DEFAULTS.size, texture_padding=EXPORT_DEFAULTS.padding,
           texture_packing=EXPORT_DEFAULTS.packing, texture_bit_depth=EXPORT_DEFAULTS.bit_depth, report=None,
-          progress=None, timeout=None, **settings):
+          progress=None, timeout=None, scheduler=None, **settings):
     """Bake every asset found in ``paths``; returns one :class:`~..core.batch.AssetRecord` per asset.
 
     Parameters
@@ -80,6 +83,10 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
     timeout : float, optional
         Seconds an asset may take; a worker still running then is stopped
         and its asset reported failed.  Default: no limit.
+    scheduler : str, optional
+        The address of a Dask scheduler (``tcp://HOST:PORT``): one task per
+        asset on its workers instead of ``jobs`` processes here (:mod:`.farm`;
+        needs Dask's ``distributed``, docs/pipelines.md).
     **settings
         Any bake setting (:class:`~..core.settings.BakeSettings`), e.g.
         ``rays=32``; the others take their defaults, not a scene's, except
@@ -108,6 +115,9 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
     if color_attribute is not None and color_attribute not in [item[0] for item in DOMAIN_ITEMS]:
         raise SeamlessAOError("color_attribute must be one of {} (got {!r})".format(
             ", ".join(item[0] for item in DOMAIN_ITEMS), color_attribute))
+    if scheduler is not None and jobs is not None:
+        raise SeamlessAOError("give --jobs or --scheduler, not both: on a Dask cluster its workers decide how many "
+                              "assets bake at once")
     if jobs is None:
         jobs = os.cpu_count() or 1
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
@@ -146,7 +156,12 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         progress(progress_line(len(records), total, record, time.perf_counter() - started))
 
     with tempfile.TemporaryDirectory(prefix="seamless_ao_batch_") as scratch:
-        for record in _run_workers(queue, outputs, job_options, jobs, scratch, timeout):
+        if scheduler is None:
+            finished = _run_workers(queue, outputs, job_options, jobs, scratch, timeout)
+        else:
+            finished = run_on_cluster([dict(job_options, input=str(asset), output=str(outputs[asset]))
+                                       for asset in queue], scheduler, timeout)
+        for record in finished:
             records.append(record)
             write_stamp(record.output, record.input, digest, record)
             progress(progress_line(len(records), total, record, time.perf_counter() - started))
@@ -165,11 +180,8 @@ def _run_workers(queue, outputs, job_options, jobs, scratch, timeout=None):
         while queue and len(running) < jobs:
             asset = queue.pop(0)
             number += 1
-            job_path = os.path.join(scratch, "job{}.json".format(number))
-            job = dict(job_options, input=str(asset), output=str(outputs[asset]),
-                       record=os.path.join(scratch, "record{}.json".format(number)))
-            with open(job_path, "w", encoding="utf-8") as handle:
-                json.dump(job, handle)
+            job = dict(job_options, input=str(asset), output=str(outputs[asset]))
+            job_path, job = write_worker_job(job, scratch, number)
             log_path = os.path.join(scratch, "log{}.txt".format(number))
             with open(log_path, "w", encoding="utf-8") as log:
                 process = subprocess.Popen(worker_command(job_path), stdout=log, stderr=subprocess.STDOUT,
@@ -178,33 +190,17 @@ def _run_workers(queue, outputs, job_options, jobs, scratch, timeout=None):
         time.sleep(0.05)
         for entry in list(running):
             process, job, log_path, started = entry
-            stopped = False
             if process.poll() is None:                 # still running: stopped only if past the deadline
                 if timeout is None or time.perf_counter() - started <= timeout:
                     continue
                 process.kill()
                 process.wait()
-                stopped = True
                 remove_partial_output(job["output"], process.pid)   # what it was writing when stopped
+                running.remove(entry)
+                yield AssetRecord(**timed_out_record(job, timeout))
+                continue
             running.remove(entry)
-            yield _collect(process, job, log_path, timeout if stopped else None)
-
-
-def _collect(process, job, log_path, timed_out=None):
-    """The record a worker wrote, or one that says how the worker died (or that it was stopped after
-    ``timed_out`` seconds)."""
-    if timed_out is not None:
-        return AssetRecord(input=job["input"], output=job["output"], seconds={"total": float(timed_out)},
-                           error="stopped after {:g} s (--timeout); the asset took longer".format(timed_out))
-    try:
-        with open(job["record"], encoding="utf-8") as handle:
-            return AssetRecord(**json.load(handle))
-    except (OSError, ValueError, TypeError):
-        pass
-    with open(log_path, encoding="utf-8", errors="replace") as handle:
-        lines = [line.strip() for line in handle if line.strip()]
-    return AssetRecord(input=job["input"], output=job["output"], error="the worker stopped with exit code {}{}".format(
-        process.returncode, " ({})".format(lines[-1]) if lines else ""))
+            yield AssetRecord(**read_record(job, process.returncode, log_path))
 
 
 def write_report(path, records, job_options, seconds):

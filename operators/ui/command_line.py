@@ -62,6 +62,8 @@ def add_batch_parser(actions):
     batch_parser.add_argument("--output-dir", metavar="DIR", help="write the results here (default: next to "
                               "each input, as NAME_ao.glb or NAME_ao.blend)")
     batch_parser.add_argument("--jobs", type=int, metavar="N", help="worker processes at once (default: cores)")
+    batch_parser.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="bake on the workers of this Dask "
+                              "scheduler instead, one task per asset (needs Dask: docs/pipelines.md)")
     batch_parser.add_argument("--force", action="store_true", help="bake even assets whose output is up to date")
     batch_parser.add_argument("--per-object", action="store_true", help="one AO image per object, not per asset")
     batch_parser.add_argument("--uv-policy", choices=UV_POLICIES, default="auto",
@@ -187,7 +189,7 @@ def run_batch(args):
                         texture_size=args.texture_size, texture_padding=args.texture_padding,
                         texture_packing=args.texture_packing, texture_bit_depth=args.texture_bit_depth,
                         report=args.report,
-                        timeout=args.timeout, **bake_options(args))
+                        timeout=args.timeout, scheduler=args.scheduler, **bake_options(args))
     except SeamlessAOError as error:
         print("seamless_ao: error: {}".format(error), file=sys.stderr)
         return 2

@@ -81,6 +81,18 @@ def room_blend(path, marker):
     bpy.ops.wm.save_as_mainfile(filepath=str(path))
 
 
+def stack_blend(path):
+    """Suzanne with a live stack (Subdivision, then Bevel) over a plate: the batch bakes what renders."""
+    _scene()
+    bpy.ops.mesh.primitive_monkey_add(location=(0.0, 0.0, 0.8))
+    ob = bpy.context.active_object
+    subdivision = ob.modifiers.new("Subdivision", "SUBSURF")
+    subdivision.levels = subdivision.render_levels = 1
+    ob.modifiers.new("Bevel", "BEVEL").width = 0.02
+    _plate()
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+
+
 def edges_obj(path):
     lines = ["v 0 0 0", "v 1 0 0", "v 1 1 0", "v 0 1 1", "l 1 2", "l 2 3", "l 3 4"]
     path.write_text("\n".join(lines) + "\n")
