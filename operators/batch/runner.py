@@ -38,6 +38,13 @@ def worker_command(job_path):
     return process_command("worker", job_path)
 
 
+def worker_options(bake_settings, export, per_object=False, uv_policy="auto", color_attribute=None):
+    """What every worker's job holds besides its ``input`` and ``output``: the bake and export settings."""
+    return dict(settings=dataclasses.asdict(bake_settings), per_object=bool(per_object), uv_policy=uv_policy,
+                color_attribute=color_attribute, texture_size=export.size, texture_padding=export.padding,
+                texture_packing=export.packing, texture_bit_depth=export.bit_depth)
+
+
 def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, uv_policy="auto",
           color_attribute=None, texture_size=EXPORT_DEFAULTS.size, texture_padding=EXPORT_DEFAULTS.padding,
           texture_packing=EXPORT_DEFAULTS.packing, texture_bit_depth=EXPORT_DEFAULTS.bit_depth, report=None,
@@ -133,10 +140,7 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
     if output_dir is not None:
         os.makedirs(output_dir, exist_ok=True)
     outputs = plan_outputs(assets, output_dir)
-    job_options = dict(settings=dataclasses.asdict(bake_settings), per_object=bool(per_object),
-                       uv_policy=uv_policy, color_attribute=color_attribute, texture_size=export.size,
-                       texture_padding=export.padding, texture_packing=export.packing,
-                       texture_bit_depth=export.bit_depth)
+    job_options = worker_options(bake_settings, export, per_object, uv_policy, color_attribute)
     digest = settings_digest(job_options)
 
     records = [AssetRecord(input=given, output="", error=sentence) for given, sentence in unreadable]

@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 
+import bpy
 import pytest
 
 from batch_assets import make_asset_folder, stack_blend
@@ -150,6 +151,28 @@ def test_a_batch_stopped_halfway_bakes_only_what_is_missing_when_started_again(a
         assert records[name]["status"] == "baked" and not records[name]["skipped"], records[name]
     assert "Batch: {} baked".format(len(set(GOOD) - done_before)) in proc.stdout, proc.stdout
     assert no_partial_output(out)
+
+
+def test_a_task_bakes_its_asset_in_a_blender_process_of_its_own(assets, tmp_path, monkeypatch):
+    """What a Dask worker runs, without Dask: under Blender (the real binary, in test_suite_in_blender) the task
+    starts ``blender --background --factory-startup --disable-autoexec --python-exit-code 1``, under the bpy
+    module this Python; either bakes the asset and returns its record."""
+    from seamless_ao.core.settings import BakeSettings, ExportSettings
+    from seamless_ao.operators.batch.runner import worker_options
+    tasks = asset_process()
+    binary = bpy.app.binary_path
+    binary = binary if binary and not os.path.basename(binary).startswith("python") else sys.executable
+    monkeypatch.setenv(tasks.BLENDER_VARIABLE, binary)
+    # where Blender's own Python finds xatlas, as docs/pipelines.md tells a farm to say
+    monkeypatch.setenv("SEAMLESS_AO_PATHS", os.pathsep.join(p for p in sys.path if p and os.path.isdir(p)))
+    options = worker_options(BakeSettings.from_kwargs(rays=16, image_size=256), ExportSettings(size=256))
+    job = dict(options, input=str(assets / "monkey.obj"), output=str(tmp_path / "monkey_ao.glb"))
+    record = tasks.bake_in_process(job, str(LAUNCHER.parents[2]))
+    assert record["status"] == "baked", record
+    assert record["triangles"] > 0 and (tmp_path / "monkey_ao.glb").stat().st_size > 0
+    assert tasks.launch_command(binary, LAUNCHER, "worker")[1:6] == (
+        ["--background", "--factory-startup", "--disable-autoexec", "--python-exit-code", "1"]
+        if binary != sys.executable else [str(LAUNCHER), "worker"])
 
 
 def test_a_worker_without_the_package_or_blender_fails_its_asset_with_a_sentence(tmp_path, monkeypatch):

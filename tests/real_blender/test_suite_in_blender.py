@@ -1,5 +1,7 @@
 """Issue 57: the batch's own tests (``tests/blender/test_batch.py``) with the real ``blender`` binary, so that
-its workers are what they are for a user: ``blender --background --factory-startup --disable-autoexec``.
+its workers are what they are for a user: ``blender --background --factory-startup --disable-autoexec``; and
+the farm's (``tests/blender/test_farm.py``, issue 54), whose task starts the same Blender on a worker (its Dask
+tests are Blender 5.0's, so here only the task itself and the sentence for a missing Dask run).
 
 The suite runs inside that Blender (``tests/run.py``) on the repository's package, with the zip's xatlas
 wheel for the root's Python unpacked into a folder of its own, and with user folders of its own (the
@@ -12,7 +14,7 @@ import zipfile
 
 from real_blender import REPO
 
-SUITES = ("tests/blender/test_batch.py",)
+SUITES = ("tests/blender/test_batch.py", "tests/blender/test_farm.py")
 
 
 def unpacked_wheel(real_blender):
