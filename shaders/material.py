@@ -204,7 +204,7 @@ def _active_output(tree):
     return next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
 
 
-def set_preview(material, enabled):
+def set_material_preview(material, enabled):
     """Show only the AO (as emission) in ``material``, or put its own surface back."""
     tree = material.node_tree if uses_nodes(material) else None
     if tree is None or tree.nodes.get(BLEND) is None:
@@ -254,7 +254,7 @@ def unhook_material(material):
     if not uses_nodes(material):
         return
     tree = material.node_tree
-    set_preview(material, False)
+    set_material_preview(material, False)
     for mix in [n for n in tree.nodes if n.name.startswith(NODE_PREFIX + "Multiply ")]:
         principled = tree.nodes.get(mix.name[len(NODE_PREFIX + "Multiply "):])
         _remove_multiply(tree, mix, principled)

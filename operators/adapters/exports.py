@@ -25,7 +25,7 @@ from ...core.transfer import (PNG_CHANNELS, carries_material, corner_values, pac
 from ...core.uv_fitness import uv_fitness
 from ...shaders import material as material_nodes
 from . import stack
-from .mesh_data import Topology, evaluated_mesh, read_triangles, read_uv, render_evaluation
+from .mesh_data import EvaluatedCorners, evaluated_mesh, read_triangles, read_uv, render_evaluation
 from .writes import store_png_image
 
 DEFAULTS = ExportSettings()
@@ -61,11 +61,11 @@ def _baked_inputs(ob, target=None):
         depsgraph = bpy.context.evaluated_depsgraph_get()
         with evaluated_mesh(ob, depsgraph) as evaluated:
             triangle_mesh, loops = read_triangles(evaluated)
-            topology = Topology.of(evaluated)
+            corners = EvaluatedCorners.of(evaluated)
             material_index = np.zeros(len(evaluated.polygons), dtype=np.int32)
             evaluated.polygons.foreach_get("material_index", material_index)
             target_uv = _loop_uv(evaluated, target)[loops] if target else None
-    if not topology.same_as(holder):
+    if not corners.same_as(holder):
         raise SeamlessAOError("'{}' no longer has the surface it was baked with (its modifiers changed); bake it "
                               "again first".format(ob.name))
     layer_uv = np.stack([_loop_uv(holder, name)[loops] for name in AO_LAYERS], axis=1)   # (t, 3, 3, 2)

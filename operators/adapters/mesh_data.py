@@ -146,7 +146,7 @@ def read_triangles(mesh):
 
 
 @dataclass
-class Topology:
+class EvaluatedCorners:
     """The evaluated mesh's corners as a bake saw them, enough to rebuild a mesh with the same corner order
     (where a Seamless AO modifier finds the UVs it stores, by corner index)."""
 
@@ -211,12 +211,12 @@ def evaluated_mesh(ob, depsgraph):
 
 def read_object(ob, depsgraph):
     """``ob`` as ``depsgraph`` evaluates it: :func:`read_mesh_arrays` of its evaluated mesh, and that mesh's
-    :class:`Topology`, and whether its corners are its base mesh's (the bake's UV maps can then be written
+    :class:`EvaluatedCorners`, and whether its corners are its base mesh's (the bake's UV maps can then be written
     on the base mesh, which deforming modifiers carry through)."""
     with evaluated_mesh(ob, depsgraph) as mesh:
         arrays, loops = read_mesh_arrays(mesh)
-        topology = Topology.of(mesh)
-    return arrays, loops, topology, topology.same_as(ob.data)
+        corners = EvaluatedCorners.of(mesh)
+    return arrays, loops, corners, corners.same_as(ob.data)
 
 
 def world_boxes(depsgraph):

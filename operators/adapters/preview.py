@@ -8,5 +8,5 @@ def set_preview(objects, enabled):
     changed = 0
     for ob in objects:
         for material in {slot.material for slot in getattr(ob, "material_slots", []) if slot.material is not None}:
-            changed += bool(material_nodes.set_preview(material, enabled))
+            changed += bool(material_nodes.set_material_preview(material, enabled))
     return changed

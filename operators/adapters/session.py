@@ -30,7 +30,7 @@ from ...core.viewport_uv import stands_off
 from ..background.client import BackgroundBake
 from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
-from .mesh_data import Topology, read_object, render_evaluation, scene_occluders, world_boxes
+from .mesh_data import EvaluatedCorners, read_object, render_evaluation, scene_occluders, world_boxes
 from .scene_settings import settings_from
 from .writes import Transaction, corner_uv, image_file_path, save_image_file
 
@@ -45,9 +45,9 @@ class BakedObject:
     ob: bpy.types.Object
     loops: np.ndarray           # (t, 3) int64, the evaluated mesh's corner of each triangle corner
     matrix: np.ndarray          # (4, 4) float64
-    topology: Topology
+    corners: EvaluatedCorners
     through_stack: bool
-    viewport: Topology = None   # the surface the viewport evaluates, where its levels give another one
+    viewport: EvaluatedCorners = None   # the surface the viewport evaluates, where its levels give another one
     viewport_part: int = None   # that surface's mesh in the pipeline, where it is baked too (it stands off)
     viewport_loops: np.ndarray = None   # (t, 3) int64, its corner of each of its triangles' corners
 
@@ -191,13 +191,13 @@ class BakeSession:
         with render_evaluation(evaluated):
             depsgraph = bpy.context.evaluated_depsgraph_get()
             for ob in self.objects:
-                arrays, loops, topology, on_base = read_object(ob, depsgraph)
+                arrays, loops, corners, on_base = read_object(ob, depsgraph)
                 if not len(arrays.triangles):
                     raise SeamlessAOError("'{}' has no faces to bake as it renders (its modifiers leave none)".format(
                         ob.name))
                 matrix = np.array(ob.matrix_world, dtype=np.float64)
                 meshes.append(arrays)
-                baked.append(BakedObject(ob, loops, matrix, topology, not on_base or users[ob.data] > 1))
+                baked.append(BakedObject(ob, loops, matrix, corners, not on_base or users[ob.data] > 1))
             boxes = world_boxes(depsgraph) if self.settings.use_scene_occluders else None
             for ob, mesh, part in zip(self.objects, meshes, baked):
                 occluders.append(scene_occluders(boxes, ob, *world_reach(mesh.mesh(), part.matrix, self.settings))
@@ -207,10 +207,10 @@ class BakeSession:
         for index, part in enumerate(baked):
             if not part.through_stack:
                 continue
-            shown, loops, topology, _ = read_object(part.ob, depsgraph)
-            if topology.counts() == part.topology.counts():
+            shown, loops, corners, _ = read_object(part.ob, depsgraph)
+            if corners.counts() == part.corners.counts():
                 continue
-            part.viewport = topology
+            part.viewport = corners
             if stands_off(meshes[index].positions, meshes[index].triangles, shown.positions):
                 # a Subdivision cage: its own AO, baked as one more piece of the atlas, with its own rays
                 part.viewport_part, part.viewport_loops = len(meshes), loops
@@ -247,7 +247,7 @@ class BakeSession:
                     if baked.viewport_part is not None:
                         viewport_uv = corner_uv(len(baked.viewport.corner_vert), baked.viewport_loops,
                                                 result.part_axis_uv(baked.viewport_part))
-                    transaction.stack_uv_maps(baked.ob, baked.topology, baked.loops, part_uv, baked.viewport,
+                    transaction.stack_uv_maps(baked.ob, baked.corners, baked.loops, part_uv, baked.viewport,
                                               viewport_uv)
                 else:
                     transaction.drop_stack(baked.ob)

@@ -154,19 +154,19 @@ def _build(group):
         node.location = (200.0 * (k % 8), -200.0 * (k // 8))
 
 
-def helper_mesh(name, topology, layer_uv_per_corner):
-    """A new mesh with the corners of ``topology`` (:class:`.mesh_data.Topology`) and UV maps AO_X/Y/Z from
+def helper_mesh(name, corners, layer_uv_per_corner):
+    """A new mesh with the corners of ``corners`` (:class:`.mesh_data.EvaluatedCorners`) and UV maps AO_X/Y/Z from
     ``layer_uv_per_corner`` (3, l, 2)."""
     mesh = bpy.data.meshes.new(name)
-    mesh.vertices.add(len(topology.positions))
-    mesh.attributes["position"].data.foreach_set("vector", np.ascontiguousarray(topology.positions).ravel())
-    mesh.loops.add(len(topology.corner_vert))
+    mesh.vertices.add(len(corners.positions))
+    mesh.attributes["position"].data.foreach_set("vector", np.ascontiguousarray(corners.positions).ravel())
+    mesh.loops.add(len(corners.corner_vert))
     if ".corner_vert" in mesh.attributes:
-        mesh.attributes[".corner_vert"].data.foreach_set("value", topology.corner_vert)
+        mesh.attributes[".corner_vert"].data.foreach_set("value", corners.corner_vert)
     else:
-        mesh.loops.foreach_set("vertex_index", topology.corner_vert)
-    mesh.polygons.add(len(topology.loop_start))
-    mesh.polygons.foreach_set("loop_start", topology.loop_start)
+        mesh.loops.foreach_set("vertex_index", corners.corner_vert)
+    mesh.polygons.add(len(corners.loop_start))
+    mesh.polygons.foreach_set("loop_start", corners.loop_start)
     mesh.update(calc_edges=True)
     for layer, uv in zip(AO_LAYERS, layer_uv_per_corner):
         mesh.uv_layers.new(name=layer, do_init=False)

@@ -137,7 +137,7 @@ class Transaction:
         self.undo.append(lambda mesh=mesh, active=active, render=render: _restore_active(mesh, active, render))
         _restore_active(mesh, active, render)
 
-    def stack_uv_maps(self, ob, topology, loops, axis_uv, viewport=None, viewport_uv=None):
+    def stack_uv_maps(self, ob, corners, loops, axis_uv, viewport=None, viewport_uv=None):
         """UV maps AO_X/Y/Z for an object whose stack changes its topology (or whose mesh is shared): a
         helper holding the baked corners and the maps, one for the viewport's surface where its levels
         differ, and the ``Seamless AO`` modifier, last in the stack, that stores them onto the evaluated mesh
@@ -146,14 +146,14 @@ class Transaction:
 
         Parameters
         ----------
-        topology : mesh_data.Topology, the evaluated corners the bake saw
+        corners : mesh_data.EvaluatedCorners, the evaluated corners the bake saw
         loops : (t, 3) int, the corner of each triangle corner
         axis_uv : three (t, 3 corners, 2), the triangles' UVs in AO_X, AO_Y and AO_Z
-        viewport : mesh_data.Topology of the surface the viewport shows, where it is not ``topology``; or None
+        viewport : mesh_data.EvaluatedCorners of the surface the viewport shows, where it is not ``corners``; or None
         viewport_uv : (3 layers, its corners, 2), its UVs (:func:`...core.viewport_uv.surface_uv`)
         """
-        per_corner = corner_uv(len(topology.corner_vert), loops, axis_uv)
-        helpers = [self._helper(stack.helper_name(ob), topology, per_corner), None]
+        per_corner = corner_uv(len(corners.corner_vert), loops, axis_uv)
+        helpers = [self._helper(stack.helper_name(ob), corners, per_corner), None]
         if viewport is not None and viewport_uv is not None:
             helpers[1] = self._helper(stack.helper_name(ob, viewport=True), viewport, viewport_uv)
         for old in stack.helpers_of(ob):
@@ -179,9 +179,9 @@ class Transaction:
         self.set_property(ob, HELPER_KEY, helpers[0].name)
         ob.update_tag()
 
-    def _helper(self, name, topology, layer_uv_per_corner):
-        """A new helper object (in no scene) holding ``topology``'s corners and UV maps; undone by removing it."""
-        helper = bpy.data.objects.new(name, stack.helper_mesh(name, topology, layer_uv_per_corner))
+    def _helper(self, name, corners, layer_uv_per_corner):
+        """A new helper object (in no scene) holding ``corners``'s corners and UV maps; undone by removing it."""
+        helper = bpy.data.objects.new(name, stack.helper_mesh(name, corners, layer_uv_per_corner))
         self.undo.append(lambda helper=helper: stack.remove_helper(helper))
         return helper
 

@@ -1,4 +1,5 @@
-"""The package's shape: relative imports only, no import circle, no file over 450 lines, core free of bpy."""
+"""The package's shape: relative imports only, no import circle, no file over 450 lines, core free of bpy, one
+definition per class or public function name."""
 
 import ast
 import pathlib
@@ -77,3 +78,19 @@ def test_no_python_file_is_over_450_lines():
             if ".venv" not in path.parts and "wheels" not in path.parts
             for count in [len(path.read_text().splitlines())] if count > MAX_LINES}
     assert not long, long
+
+
+#: Names every module of a kind defines by protocol: Blender's module registration, and each process's entry.
+PROTOCOL_NAMES = {"register", "unregister", "main"}
+
+
+def test_no_two_classes_or_public_functions_share_a_name():
+    """One meaning per name: a reader who meets ``Topology`` or ``set_preview`` finds one definition."""
+    defined = {}
+    for name, path in package_modules().items():
+        for node in ast.parse(path.read_text()).body:
+            if isinstance(node, (ast.ClassDef, ast.FunctionDef)) and not node.name.startswith("_"):
+                if node.name not in PROTOCOL_NAMES:
+                    defined.setdefault(node.name, []).append(str(path.relative_to(ROOT)))
+    shared = {name: paths for name, paths in defined.items() if len(paths) > 1}
+    assert not shared, shared
