@@ -343,6 +343,49 @@ class ExportSettings(_Settings):
         "faces with no UV area): the AO of one place then shows in another")
 
 
+def _again(name, **change):
+    """Field ``name`` of :class:`ExportSettings` for another settings class: its default, limits and unit kept,
+    ``change`` (a description, items) applied: one declaration of each export setting."""
+    found = next(f for f in dataclasses.fields(ExportSettings) if f.name == name)
+    return field(default=found.default, metadata=dict(found.metadata, **change))
+
+
+UV_POLICY_ITEMS = (
+    ("auto", "Auto", "The asset's own (render-active) UV map where it can hold the AO, else a new one, AO_UV "
+     "(glTF TEXCOORD_1)"),
+    ("own", "Own", "Always the asset's own UV map, with a warning where it cannot hold the AO"),
+    ("new", "New", "Always a new UV map, AO_UV"),
+)
+COLOR_ATTRIBUTE_ITEMS = (("NONE", "None", "No vertex colour"),) + DOMAIN_ITEMS
+#: glTF reads occlusion from R: every packing but a Unity mask map (the AO in G).
+GLTF_PACKING_ITEMS = tuple(item for item in PACKING_ITEMS if item[0] != "UNITY_MASK")
+
+
+@dataclass
+class GltfSettings(_Settings):
+    """How a batch writes an asset's AO into its .glb: the UV map it rides on, the occlusion texture, colours."""
+
+    uv_policy: str = _setting("auto", "UV Policy", "glTF out: the UV map the AO rides on", items=UV_POLICY_ITEMS)
+    color_attribute: str = _setting("NONE", "Color Attribute", "Also write the AO as colour attribute 'AO' on this "
+                                    "domain (glTF out: COLOR_0)", items=COLOR_ATTRIBUTE_ITEMS)
+    texture_size: int = _again("size", description="glTF out: width and height of the occlusion texture")
+    texture_padding: int = _again("padding", description="glTF out: texels of dilation around UV islands")
+    texture_packing: str = _again("packing", description="glTF out: the occlusion texture's channels",
+                                  items=GLTF_PACKING_ITEMS)
+    texture_bit_depth: str = _again("bit_depth", description="glTF out: bits per channel of the occlusion texture")
+
+    def validate(self):
+        if self.texture_packing == "UNITY_MASK":
+            raise SeamlessAOError("a batch writes glTF, whose occlusion is read from R, and a Unity mask map carries "
+                                  "the AO in G: pick GLTF, GREY or ORM packing")
+        return super().validate()
+
+    def resample_settings(self):
+        """The :class:`ExportSettings` of the occlusion texture's resample."""
+        return ExportSettings.from_kwargs(size=self.texture_size, padding=self.texture_padding,
+                                          packing=self.texture_packing, bit_depth=self.texture_bit_depth)
+
+
 #: What each export writes, and which of :class:`ExportSettings` it reads.
 RESAMPLE_FIELDS = ("uv_map", "size", "padding", "gltf_occlusion", "material_strength", "packing", "bit_depth",
                    "unfit_uv_map")
@@ -382,3 +425,8 @@ def setting_fields():
 def export_fields(names=None):
     """The dataclass fields of :class:`ExportSettings` (those named in ``names``, if given)."""
     return tuple(f for f in dataclasses.fields(ExportSettings) if names is None or f.name in names)
+
+
+def gltf_fields():
+    """The dataclass fields of :class:`GltfSettings`, in declaration order."""
+    return dataclasses.fields(GltfSettings)

@@ -35,7 +35,7 @@ def shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength=1.0, i
     return blended_ao(ao_image, uv, normals, *per_point)
 
 
-def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding=8, degenerate=None,
+def resample_to_uv(ao_image, layer_uv, corner_normals, target_uv, size, padding, degenerate=None,
                    strength=1.0, interreflection=0.0, per_triangle=None):
     """The blended AO laid out on another UV map (e.g. the user's unwrap).
 

@@ -21,15 +21,12 @@ import time
 from ...core.assets import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
                             remove_partial_output, settings_digest, write_stamp)
 from ...core.errors import SeamlessAOError
-from ...core.settings import DOMAIN_ITEMS, BakeSettings, ExportSettings
+from ...core.settings import BakeSettings, GltfSettings, gltf_fields
 from ..adapters.processes import process_command, process_environment
 from .asset_process import read_record, timed_out_record, write_worker_job
 from .farm import run_on_cluster
 
 REPORT_VERSION = 1
-#: Which UV map a glTF's AO rides on (see :func:`batch`).
-UV_POLICIES = ("auto", "own", "new")
-EXPORT_DEFAULTS = ExportSettings()
 #: Where a batch's defaults differ from a bake's: the pieces of an asset occlude each other.
 BATCH_DEFAULTS = {"use_scene_occluders": True}
 
@@ -38,17 +35,14 @@ def worker_command(job_path):
     return process_command("worker", job_path)
 
 
-def worker_options(bake_settings, export, per_object=False, uv_policy="auto", color_attribute=None):
-    """What every worker's job holds besides its ``input`` and ``output``: the bake and export settings."""
-    return dict(settings=dataclasses.asdict(bake_settings), per_object=bool(per_object), uv_policy=uv_policy,
-                color_attribute=color_attribute, texture_size=export.size, texture_padding=export.padding,
-                texture_packing=export.packing, texture_bit_depth=export.bit_depth)
+def worker_options(bake_settings, gltf, per_object=False):
+    """What every worker's job holds besides its ``input`` and ``output``: the bake settings, the glTF
+    settings (:class:`~...core.settings.GltfSettings`, one key each) and ``per_object``."""
+    return dict(settings=dataclasses.asdict(bake_settings), per_object=bool(per_object), **dataclasses.asdict(gltf))
 
 
-def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, uv_policy="auto",
-          color_attribute=None, texture_size=EXPORT_DEFAULTS.size, texture_padding=EXPORT_DEFAULTS.padding,
-          texture_packing=EXPORT_DEFAULTS.packing, texture_bit_depth=EXPORT_DEFAULTS.bit_depth, report=None,
-          progress=None, timeout=None, scheduler=None, **settings):
+def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_object=False, report=None, progress=None,
+          timeout=None, scheduler=None, **settings):
     """Bake every asset found in ``paths``; returns one :class:`~..core.batch.AssetRecord` per asset.
 
     Parameters
@@ -65,24 +59,6 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         Bake even assets whose output is up to date.
     per_object : bool
         One AO image per object instead of one per asset.
-    uv_policy : {"auto", "own", "new"}
-        glTF out: the UV map the AO rides on.  ``auto``: the object's own
-        (render-active) UV map where it can hold the AO
-        (:func:`~...core.uv_fitness.uv_fitness`: no shared UV space, no
-        tiling, no collapsed faces), else a new map ``AO_UV`` made for it (the
-        second UV set, ``texCoord`` 1), and the record's warnings say why;
-        ``own``: always the object's own, with a warning where it cannot hold
-        the AO; ``new``: always a new one.  An object without UVs always gets
-        a new one.
-    color_attribute : {"CORNER", "POINT"}, optional
-        glTF out: also write the AO as the vertex colour ``COLOR_0``.
-    texture_size, texture_padding : int
-        glTF out: size and padding of the occlusion texture.
-    texture_packing : {"GLTF", "GREY", "ORM"}
-        glTF out: the occlusion texture's channels (the resample's ``packing``;
-        not a Unity mask map, whose AO in G no glTF viewer reads).
-    texture_bit_depth : {"16", "8"}
-        glTF out: bits per channel of the occlusion texture's PNG.
     report : str, optional
         Write a JSON report here (schema in the README).
     progress : callable(str), optional
@@ -98,30 +74,34 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         Any bake setting (:class:`~..core.settings.BakeSettings`), e.g.
         ``rays=32``; the others take their defaults, not a scene's, except
         ``use_scene_occluders``, on unless given: an asset's pieces occlude
-        each other.
+        each other.  And any glTF setting
+        (:class:`~..core.settings.GltfSettings`: ``uv_policy``,
+        ``color_attribute``, ``texture_size``, ``texture_padding``,
+        ``texture_packing``, ``texture_bit_depth``; docs/settings.md).
+        ``uv_policy="auto"`` takes the object's own UV map where it can hold
+        the AO (:func:`~...core.uv_fitness.uv_fitness`: no shared UV space, no
+        tiling, no collapsed faces), else a new map ``AO_UV`` (the second UV
+        set, ``texCoord`` 1), and the record's warnings say why; an object
+        without UVs always gets a new one.
 
     Raises
     ------
     SeamlessAOError
         For a bad setting, or when ``paths`` name no asset at all.
     """
-    bake_settings = BakeSettings.from_kwargs(**dict(BATCH_DEFAULTS, **settings))
+    gltf_names = {f.name for f in gltf_fields()}
+    given_gltf = {name: value for name, value in settings.items() if name in gltf_names}
+    if given_gltf.get("color_attribute", "NONE") is None:        # the API's "no colour attribute"
+        given_gltf["color_attribute"] = "NONE"
+    gltf = GltfSettings.from_kwargs(**given_gltf)
+    bake_settings = BakeSettings.from_kwargs(**dict(BATCH_DEFAULTS, **{
+        name: value for name, value in settings.items() if name not in gltf_names}))
     if bake_settings.save_image != "NONE":
         raise SeamlessAOError("save_image is not available in a batch: the AO goes into each output file (packed "
                               "into the .blend, embedded in the .glb), and files beside the inputs would leave "
                               "the output folder")
-    if uv_policy not in UV_POLICIES:
-        raise SeamlessAOError("uv_policy must be one of {} (got {!r})".format(", ".join(UV_POLICIES), uv_policy))
     if timeout is not None and not timeout > 0:
         raise SeamlessAOError("timeout must be a number of seconds above 0 (got {!r})".format(timeout))
-    export = ExportSettings.from_kwargs(size=texture_size, padding=texture_padding, packing=texture_packing,
-                                        bit_depth=texture_bit_depth)
-    if export.packing == "UNITY_MASK":
-        raise SeamlessAOError("a batch writes glTF, whose occlusion is read from R, and a Unity mask map carries the "
-                              "AO in G: pick GLTF, GREY or ORM packing")
-    if color_attribute is not None and color_attribute not in [item[0] for item in DOMAIN_ITEMS]:
-        raise SeamlessAOError("color_attribute must be one of {} (got {!r})".format(
-            ", ".join(item[0] for item in DOMAIN_ITEMS), color_attribute))
     if scheduler is not None and jobs is not None:
         raise SeamlessAOError("give --jobs or --scheduler, not both: on a Dask cluster its workers decide how many "
                               "assets bake at once")
@@ -140,7 +120,7 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
     if output_dir is not None:
         os.makedirs(output_dir, exist_ok=True)
     outputs = plan_outputs(assets, output_dir)
-    job_options = worker_options(bake_settings, export, per_object, uv_policy, color_attribute)
+    job_options = worker_options(bake_settings, gltf, per_object)
     digest = settings_digest(job_options)
 
     records = [AssetRecord(input=given, output="", error=sentence) for given, sentence in unreadable]

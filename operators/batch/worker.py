@@ -28,7 +28,7 @@ import numpy as np
 from ...core.assets import AssetRecord, partial_output
 from ...core.errors import SeamlessAOError
 from ...core.keys import AO_LAYERS, AO_UV, COLOR_ATTRIBUTE, GLTF_NODES
-from ...core.settings import BakeSettings
+from ...core.settings import RESAMPLE_FIELDS, BakeSettings, GltfSettings, gltf_fields
 from ...shaders import material as material_nodes
 from ..adapters.exports import own_uv_map, render_active_uv, resample, to_color_attribute, uv_map_fitness
 from ..adapters.mesh_data import evaluated_mesh, render_evaluation
@@ -187,30 +187,32 @@ def share_orm(ob, target):
 def export_glb(objects, output, job):
     """Resample the AO onto each object's UV map, wire it as occlusion and write ``output`` (.glb); returns
     the warnings about the UV maps."""
-    size, padding = job["texture_size"], job["texture_padding"]
+    gltf = GltfSettings.from_kwargs(**{f.name: job[f.name] for f in gltf_fields()})
+    texture = gltf.resample_settings().replace(gltf_occlusion=True, unfit_uv_map=True)
+    resampled = {name: getattr(texture, name) for name in RESAMPLE_FIELDS if name != "uv_map"}
+    colours = gltf.color_attribute != "NONE"
     own_materials(objects)
     warnings = []
     for ob in objects:
-        target, said = ao_uv_map(ob, job["uv_policy"], padding, size)
+        target, said = ao_uv_map(ob, gltf.uv_policy, texture.padding, texture.size)
         warnings += said
-        resample([ob], uv_map=target, size=size, padding=padding, gltf_occlusion=True, unfit_uv_map=True,
-                 packing=job["texture_packing"], bit_depth=job["texture_bit_depth"])
-        if job["texture_packing"] == "ORM":
+        resample([ob], uv_map=target, **resampled)
+        if texture.packing == "ORM":
             share_orm(ob, target)
-    if job["color_attribute"]:
-        to_color_attribute(objects, job["color_attribute"])
+    if colours:
+        to_color_attribute(objects, gltf.color_attribute)
     for ob in objects:
         for name in AO_LAYERS:           # the bake's own maps are not part of the shipped asset
             layer = ob.data.uv_layers.get(name)
             if layer is not None:
                 ob.data.uv_layers.remove(layer)
-        if job["color_attribute"]:
+        if colours:
             ob.data.color_attributes.active_color_name = COLOR_ATTRIBUTE
     addon_utils.enable("io_scene_gltf2", default_set=False)
     options = dict(filepath=output, export_format="GLB", use_selection=False, export_texcoords=True,
                    export_normals=True, export_materials="EXPORT")
     known = bpy.ops.export_scene.gltf.get_rna_type().properties.keys()
-    if job["color_attribute"]:
+    if colours:
         options.update({"export_vertex_color": "ACTIVE"} if "export_vertex_color" in known else
                        {"export_colors": True})
     bpy.ops.export_scene.gltf(**options)

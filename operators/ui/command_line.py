@@ -15,15 +15,14 @@ import sys
 import bpy
 
 from ...core.errors import SeamlessAOError
-from ...core.settings import DOMAIN_ITEMS, RESAMPLE_FIELDS, ExportSettings, export_fields, setting_fields
+from ...core.settings import RESAMPLE_FIELDS, export_fields, gltf_fields, setting_fields
 from ..adapters.clearing import clear
 from ..adapters.exports import resample, to_color_attribute
 from ..adapters.scene_settings import scene_export_settings
 from ..adapters.session import bake
-from ..batch.runner import UV_POLICIES, batch
+from ..batch.runner import batch
 
 PROG = "blender --background FILE.blend --command seamless_ao"
-DEFAULT_EXPORT = ExportSettings()
 
 
 def option_name(field_name):
@@ -39,8 +38,7 @@ def build_parser():
         "export", help="resample baked AO onto the objects' own UV map (glTF-ready) and/or a colour attribute")
     add_options(export_parser, export_fields(RESAMPLE_FIELDS))
     export_parser.add_argument("--no-texture", action="store_true", help="skip the resampled texture")
-    export_parser.add_argument("--color-attribute", choices=[item[0] for item in DOMAIN_ITEMS],
-                               help="also write colour attribute 'AO' on this domain")
+    add_options(export_parser, [f for f in gltf_fields() if f.name == "color_attribute"])
     for sub in (bake_parser, clear_parser, export_parser):
         sub.add_argument("--objects", nargs="+", metavar="NAME",
                          help="mesh objects to use (default: the selected meshes, else the active object)")
@@ -66,23 +64,9 @@ def add_batch_parser(actions):
                               "scheduler instead, one task per asset (needs Dask: docs/pipelines.md)")
     batch_parser.add_argument("--force", action="store_true", help="bake even assets whose output is up to date")
     batch_parser.add_argument("--per-object", action="store_true", help="one AO image per object, not per asset")
-    batch_parser.add_argument("--uv-policy", choices=UV_POLICIES, default="auto",
-                              help="glTF out: the UV map the AO rides on: the asset's own where it can hold the AO, "
-                              "else a new one (auto, the default); always its own, with a warning where it cannot "
-                              "(own); always a new one (new)")
+    add_options(batch_parser, gltf_fields())
     batch_parser.add_argument("--new-uv", action="store_const", dest="uv_policy", const="new",
                               help="the same as --uv-policy new")
-    batch_parser.add_argument("--color-attribute", choices=[item[0] for item in DOMAIN_ITEMS],
-                              help="glTF out: also write the AO as vertex colour COLOR_0 on this domain")
-    batch_parser.add_argument("--texture-size", type=int, default=DEFAULT_EXPORT.size, metavar="N",
-                              help="glTF out: occlusion texture size (default %(default)s)")
-    batch_parser.add_argument("--texture-padding", type=int, default=DEFAULT_EXPORT.padding, metavar="N",
-                              help="glTF out: texels of dilation around UV islands (default %(default)s)")
-    batch_parser.add_argument("--texture-packing", choices=["GLTF", "GREY", "ORM"], default=DEFAULT_EXPORT.packing,
-                              help="glTF out: the occlusion texture's channels: grey RGB (GLTF, the default), one "
-                              "grey channel (GREY), or occlusion-roughness-metallic (ORM)")
-    batch_parser.add_argument("--texture-bit-depth", choices=["16", "8"], default=DEFAULT_EXPORT.bit_depth,
-                              help="glTF out: bits per channel of the occlusion texture (default %(default)s)")
     batch_parser.add_argument("--report", metavar="FILE.json", help="write a JSON report, one record per asset")
     batch_parser.add_argument("--timeout", type=float, metavar="SECONDS",
                               help="stop an asset's worker after this long and report the asset failed")
@@ -153,7 +137,7 @@ def run(argv):
             if not args.no_texture:
                 names = resample(objects, **{name: getattr(settings, name) for name in RESAMPLE_FIELDS})
                 print("Resampled AO into " + ", ".join(names))
-            if args.color_attribute:
+            if args.color_attribute not in (None, "NONE"):
                 to_color_attribute(objects, args.color_attribute, settings.material_strength)
                 print("Wrote colour attribute 'AO' ({})".format(args.color_attribute.lower()))
         else:
@@ -184,12 +168,8 @@ def run_batch(args):
     itself is wrong (a bad setting, paths that name no asset)."""
     try:
         records = batch(args.paths, output_dir=args.output_dir, jobs=args.jobs, pattern=args.glob,
-                        force=args.force, per_object=args.per_object, uv_policy=args.uv_policy,
-                        color_attribute=args.color_attribute,
-                        texture_size=args.texture_size, texture_padding=args.texture_padding,
-                        texture_packing=args.texture_packing, texture_bit_depth=args.texture_bit_depth,
-                        report=args.report,
-                        timeout=args.timeout, scheduler=args.scheduler, **bake_options(args))
+                        force=args.force, per_object=args.per_object, report=args.report, timeout=args.timeout,
+                        scheduler=args.scheduler, **bake_options(args), **given_options(args, gltf_fields()))
     except SeamlessAOError as error:
         print("seamless_ao: error: {}".format(error), file=sys.stderr)
         return 2

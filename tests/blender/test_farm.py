@@ -157,7 +157,7 @@ def test_a_task_bakes_its_asset_in_a_blender_process_of_its_own(assets, tmp_path
     """What a Dask worker runs, without Dask: under Blender (the real binary, in test_suite_in_blender) the task
     starts ``blender --background --factory-startup --disable-autoexec --python-exit-code 1``, under the bpy
     module this Python; either bakes the asset and returns its record."""
-    from seamless_ao.core.settings import BakeSettings, ExportSettings
+    from seamless_ao.core.settings import BakeSettings, GltfSettings
     from seamless_ao.operators.batch.runner import worker_options
     tasks = asset_process()
     binary = bpy.app.binary_path
@@ -165,7 +165,7 @@ def test_a_task_bakes_its_asset_in_a_blender_process_of_its_own(assets, tmp_path
     monkeypatch.setenv(tasks.BLENDER_VARIABLE, binary)
     # where Blender's own Python finds xatlas, as docs/pipelines.md tells a farm to say
     monkeypatch.setenv("SEAMLESS_AO_PATHS", os.pathsep.join(p for p in sys.path if p and os.path.isdir(p)))
-    options = worker_options(BakeSettings.from_kwargs(rays=16, image_size=256), ExportSettings(size=256))
+    options = worker_options(BakeSettings.from_kwargs(rays=16, image_size=256), GltfSettings(texture_size=256))
     job = dict(options, input=str(assets / "monkey.obj"), output=str(tmp_path / "monkey_ao.glb"))
     record = tasks.bake_in_process(job, str(LAUNCHER.parents[2]))
     assert record["status"] == "baked", record

@@ -94,3 +94,33 @@ def test_no_two_classes_or_public_functions_share_a_name():
                     defined.setdefault(node.name, []).append(str(path.relative_to(ROOT)))
     shared = {name: paths for name, paths in defined.items() if len(paths) > 1}
     assert not shared, shared
+
+
+#: Parameters that share a name with an export setting and mean something else: ``(module, parameter)``.
+NOT_EXPORT_SETTINGS = {
+    ("core.atlas", "padding"), ("core.layout", "padding"), ("core.raster", "padding"),   # the atlas's, a bake's
+    ("core.png", "bit_depth"),                                                           # the PNG writer's, an int
+}
+
+
+def test_export_settings_are_declared_in_core_settings_only():
+    """An export or glTF setting gets its default, its choices and its command-line option from
+    core/settings.py only: no function elsewhere gives one a literal default, and no option is spelt out."""
+    from package import seamless_ao
+    settings = seamless_ao.core.settings
+    names = {f.name for f in settings.export_fields()} | {f.name for f in settings.gltf_fields()}
+    options = {"--" + name.replace("_", "-") for name in names}
+    declared = []
+    for name, path in package_modules().items():
+        if name == "core.settings":
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Constant) and node.value in options:
+                declared.append("{}:{} option {}".format(path.name, node.lineno, node.value))
+            if isinstance(node, ast.FunctionDef):
+                given = node.args.args[len(node.args.args) - len(node.args.defaults):]
+                pairs = list(zip(given, node.args.defaults)) + list(zip(node.args.kwonlyargs, node.args.kw_defaults))
+                declared += ["{}:{} {}={!r}".format(path.name, node.lineno, arg.arg, default.value)
+                             for arg, default in pairs if arg.arg in names and isinstance(default, ast.Constant)
+                             and default.value is not None and (name, arg.arg) not in NOT_EXPORT_SETTINGS]
+    assert not declared, declared

@@ -44,7 +44,7 @@ def number(value):
 
 def settings_page():
     from package import seamless_ao
-    from seamless_ao.core.settings import export_fields, setting_fields
+    from seamless_ao.core.settings import export_fields, gltf_fields, setting_fields
     from seamless_ao.operators.ui.command_line import option_name
 
     def default(f):
@@ -73,8 +73,11 @@ def settings_page():
     export = ["| setting | command line | default | range | what it does |", "|---|---|---|---|---|"]
     export += ["| `{}` | `{}` | {} | {} | {} |".format(f.name, options.get(f.name, option_name(f.name)), default(f),
                                                     limits(f), f.metadata["description"]) for f in export_fields()]
+    gltf = ["| setting | command line | default | range | what it does |", "|---|---|---|---|---|"]
+    gltf += ["| `{}` | `{}` | {} | {} | {} |".format(f.name, option_name(f.name), default(f), limits(f),
+                                                  f.metadata["description"]) for f in gltf_fields()]
     choices = ["| setting | value | label | meaning |", "|---|---|---|---|"]
-    choices += items(setting_fields()) + items(export_fields())
+    choices += items(setting_fields()) + items(export_fields()) + items(gltf_fields())
     del seamless_ao
     return "\n".join([
         "# Settings", "", GENERATED.format("`core/settings.py`"), "",
@@ -86,6 +89,9 @@ def settings_page():
         "## Export settings", "",
         "The panel's *Export* section, the scene properties `export_<name>`, the `export` command's options and "
         "the arguments of `resample` and `to_color_attribute`.", "", *export, "",
+        "## glTF settings of a batch", "",
+        "The `batch` command's options and keywords of `batch()` for the assets it writes as .glb "
+        "(docs/pipelines.md); the texture's settings are the export settings', under other names.", "", *gltf, "",
         "## Choices", "", *choices, ""])
 
 
