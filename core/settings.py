@@ -18,6 +18,7 @@ import dataclasses
 from dataclasses import dataclass, field
 
 from .errors import SeamlessAOError
+from .packings import BY_ID as PACKINGS_BY_ID, PACKINGS
 
 
 def _setting(default, label, description, **extra):
@@ -297,15 +298,7 @@ class BakeSettings(_Settings):
         return "CYCLES", "all but each texel's first {} rays".format(BULK_PILOT_RAYS)
 
 
-PACKING_ITEMS = (
-    ("GLTF", "glTF Occlusion", "Grey: the AO in R, G and B (glTF reads occlusion from R)"),
-    ("GREY", "Greyscale", "One channel: the AO alone, in a greyscale PNG (glTF reads its grey as R)"),
-    ("ORM", "ORM", "R occlusion, G roughness, B metallic (glTF's, Unreal's and Godot's packed texture): the "
-     "materials' metallic-roughness texture where one feeds Roughness and Metallic on the same UV map, else their "
-     "Roughness and Metallic values"),
-    ("UNITY_MASK", "Unity Mask Map", "R metallic, G occlusion, B detail mask (0), A smoothness (Unity URP and "
-     "HDRP); not for glTF occlusion, which reads R"),
-)
+PACKING_ITEMS = tuple((packing.id, packing.label, packing.description) for packing in PACKINGS)
 
 BIT_DEPTH_ITEMS = (
     ("16", "16-bit", "16 bits per channel (no visible banding in soft AO gradients)"),
@@ -357,8 +350,8 @@ UV_POLICY_ITEMS = (
     ("new", "New", "Always a new UV map, AO_UV"),
 )
 COLOR_ATTRIBUTE_ITEMS = (("NONE", "None", "No vertex colour"),) + DOMAIN_ITEMS
-#: glTF reads occlusion from R: every packing but a Unity mask map (the AO in G).
-GLTF_PACKING_ITEMS = tuple(item for item in PACKING_ITEMS if item[0] != "UNITY_MASK")
+#: glTF reads occlusion from R: the packings with the AO there.
+GLTF_PACKING_ITEMS = tuple(item for item in PACKING_ITEMS if PACKINGS_BY_ID[item[0]].gltf_readable)
 
 
 @dataclass
@@ -375,9 +368,11 @@ class GltfSettings(_Settings):
     texture_bit_depth: str = _again("bit_depth", description="glTF out: bits per channel of the occlusion texture")
 
     def validate(self):
-        if self.texture_packing == "UNITY_MASK":
-            raise SeamlessAOError("a batch writes glTF, whose occlusion is read from R, and a Unity mask map carries "
-                                  "the AO in G: pick GLTF, GREY or ORM packing")
+        packing = PACKINGS_BY_ID.get(self.texture_packing)
+        if packing is not None and not packing.gltf_readable:
+            readable = [item[0] for item in GLTF_PACKING_ITEMS]
+            raise SeamlessAOError("{}, and a batch writes glTF: pick {} or {} packing".format(
+                packing.not_gltf(), ", ".join(readable[:-1]), readable[-1]))
         return super().validate()
 
     def resample_settings(self):

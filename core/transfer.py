@@ -9,6 +9,8 @@ import numpy as np
 from .blend import blended_ao
 from .fill import pull_push
 from .geometry2d import closest_barycentric, cross2d
+from .packings import BY_ID, pack_channels
+from .png import encode_png
 from .raster import rasterise_triangles
 
 
@@ -109,44 +111,33 @@ def sample_repeat(values, uv):
             + (1 - fx) * fy * values[y1, x0] + fx * fy * values[y1, x1])
 
 
-#: How a resampled image carries the AO: ``(channel of the AO, channel of roughness, of metallic, of smoothness)``
-#: (-1: not carried); the rest of RGBA is the AO (grey) or 1.
-PACKINGS = {
-    "GLTF": (0, -1, -1, -1),          # grey: glTF reads occlusion from R
-    "GREY": (0, -1, -1, -1),          # grey, one channel
-    "ORM": (0, 1, 2, -1),             # occlusion, roughness, metallic: glTF's and Unreal's and Godot's ORM
-    "UNITY_MASK": (1, -1, 0, 3),      # Unity URP/HDRP mask map: metallic, occlusion, detail mask, smoothness
-}
+def packed_values(channels, textures):
+    """(roughness, metallic), each (h, w): per-triangle values laid into the image (``channels`` (h, w,
+    2 + k): roughness, metallic, then one column per texture, 1 where its triangles lie, as
+    :func:`resample_to_uv` lays them), with each texture's own texels where its triangles lie.
+
+    Parameters
+    ----------
+    channels : (h, w, 2 + k) float
+    textures : list of k ``(value, texels)``: ``value`` 0 roughness or 1 metallic, ``texels`` (h', w') float,
+        read repeating through the image's own texel centres
+    """
+    height, width = channels.shape[:2]
+    laid = [channels[:, :, 0].copy(), channels[:, :, 1].copy()]
+    uv = texel_uv(width, height)
+    for j, (v, texture) in enumerate(textures):
+        where = channels[:, :, 2 + j] > 0.5
+        laid[v][where] = sample_repeat(texture, uv[where])
+    return laid
 
 
-#: The channels of the PNG file each packing writes: grey as RGB for glTF, one for greyscale, RGB for ORM, RGBA for
-#: a Unity mask map (smoothness in A).
-PNG_CHANNELS = {"GLTF": 3, "GREY": 1, "ORM": 3, "UNITY_MASK": 4}
-
-
-def carries_material(packing):
-    """Whether ``packing`` (:data:`PACKINGS`) carries material values (roughness, metallic or smoothness)."""
-    return any(channel >= 0 for channel in PACKINGS[packing][1:])
-
-
-def pack_channels(ao, packing, roughness=None, metallic=None):
-    """(h, w, 4) RGBA of the AO ``ao`` (h, w) packed as ``packing`` (:data:`PACKINGS`), with the material's
-    ``roughness`` and ``metallic`` (h, w) where the packing carries them (0.5 and 0 when not given)."""
-    ao = np.asarray(ao, dtype=np.float32)
-    roughness = np.full_like(ao, 0.5) if roughness is None else np.asarray(roughness, dtype=np.float32)
-    metallic = np.zeros_like(ao) if metallic is None else np.asarray(metallic, dtype=np.float32)
-    occlusion, rough, metal, smooth = PACKINGS[packing]
-    rgba = np.ones(ao.shape + (4,), dtype=np.float32)
-    if not carries_material(packing):
-        rgba[:, :, :3] = ao[:, :, None]
-        return rgba
-    if packing == "UNITY_MASK":
-        rgba[:, :, 2] = 0.0                                    # no detail mask
-    rgba[:, :, occlusion] = ao
-    for channel, values in ((rough, roughness), (metal, metallic), (smooth, 1.0 - roughness)):
-        if channel >= 0:
-            rgba[:, :, channel] = values
-    return rgba
+def resampled_png(laid, packing, bit_depth, textures=()):
+    """The PNG bytes of a resample: :func:`resample_to_uv`'s result ``laid`` (with its channels where the
+    packing carries the material, :func:`packed_values`' ``textures`` read into them) packed as ``packing``
+    (:mod:`.packings`), ``bit_depth`` (8 or 16) bits per channel, rows top first as PNG stores them."""
+    material = packed_values(laid[2], textures) if len(laid) > 2 else (None, None)
+    rgba = pack_channels(laid[0], packing, *material)
+    return encode_png(rgba[::-1, :, :BY_ID[packing].png_channels], int(bit_depth))
 
 
 def corner_values(ao_image, layer_uv, corner_normals, strength=1.0, interreflection=0.0):

@@ -18,10 +18,9 @@ from ...core.errors import SeamlessAOError
 from ...core.keys import (AO_LAYERS, BLEND, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_KEY, FRAME, GLTF_GROUP, GLTF_NODES,
                           IMAGE_KEY, OURS_KEY)
 from ...core.mesh import TriangleMesh
+from ...core.packings import BY_ID
 from ...core.settings import ExportSettings
-from ...core.png import encode_png
-from ...core.transfer import (PNG_CHANNELS, carries_material, corner_values, pack_channels, resample_to_uv,
-                              sample_repeat, texel_uv, vertex_average)
+from ...core.transfer import corner_values, resample_to_uv, resampled_png, vertex_average
 from ...core.uv_fitness import uv_fitness
 from ...shaders import material as material_nodes
 from . import stack
@@ -128,19 +127,6 @@ def material_values(ob, baked, target):
     return per_slot[baked.triangle_slot(len(slots))], textures
 
 
-def packed_values(channels, textures):
-    """(roughness, metallic), each (h, w): the per-triangle values laid into the image (``channels`` (h, w,
-    2 + k), :func:`material_values`' columns as :func:`~...core.transfer.resample_to_uv` spreads them), with
-    each texture's own texels where its triangles lie (its column over one half)."""
-    height, width = channels.shape[:2]
-    laid = [channels[:, :, 0].copy(), channels[:, :, 1].copy()]
-    uv = texel_uv(width, height)
-    for j, (v, texture) in enumerate(textures):
-        where = channels[:, :, 2 + j] > 0.5
-        laid[v][where] = sample_repeat(texture, uv[where])
-    return laid
-
-
 def node_inputs(ob, baked, use):
     """(strength (t,), interreflection (t,)) of each triangle of :class:`Baked` ``baked``: its face's material's
     ``Seamless AO`` node inputs, or (1, 0) everywhere when ``use`` is off."""
@@ -198,7 +184,7 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
         Apply each material's Strength and Interreflection (the ``Seamless AO``
         node's inputs), so the texture shows what the material shows.
     packing : {"GLTF", "GREY", "ORM", "UNITY_MASK"}
-        Which channels carry the AO (:data:`~...core.transfer.PACKINGS`); ORM
+        Which channels carry the AO (:data:`~...core.packings.PACKINGS`); ORM
         and the Unity mask map carry each material's roughness and metallic
         too, from its metallic-roughness texture where one is read through
         the same UV map (:func:`material_values`).
@@ -217,9 +203,9 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
     settings = ExportSettings.from_kwargs(uv_map=uv_map or "", size=size, padding=padding,
                                           gltf_occlusion=gltf_occlusion, material_strength=material_strength,
                                           packing=packing, bit_depth=bit_depth, unfit_uv_map=unfit_uv_map)
-    if settings.packing == "UNITY_MASK" and settings.gltf_occlusion:
-        raise SeamlessAOError("a Unity mask map carries the AO in G, and glTF reads occlusion from R: turn glTF "
-                              "occlusion off to write one")
+    packing = BY_ID[settings.packing]
+    if settings.gltf_occlusion and not packing.gltf_readable:
+        raise SeamlessAOError(packing.not_gltf() + ": turn glTF occlusion off to write one")
     names = []
     for ob in objects:
         target = own_uv_map(ob, settings.uv_map or None)
@@ -228,14 +214,11 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
         if fitness is not None and not fitness.can_hold_ao:
             raise SeamlessAOError("'{}': its UV map '{}' cannot hold the AO: {}; pick another UV map, or resample "
                                   "anyway (Even If Unfit)".format(ob.name, target, "; ".join(fitness.problems())))
-        carried, textures = (material_values(ob, baked, target) if carries_material(settings.packing)
-                             else (None, []))
+        carried, textures = (material_values(ob, baked, target) if packing.carries_material else (None, []))
         laid = resample_to_uv(baked.ao_image, baked.layer_uv, baked.mesh.corner_normals, baked.target_uv,
                               settings.size, settings.padding, baked.mesh.degenerate,
                               *node_inputs(ob, baked, settings.material_strength), per_triangle=carried)
-        material = packed_values(laid[2], textures) if carried is not None else (None, None)
-        rgba = pack_channels(laid[0], settings.packing, *material)
-        png = encode_png(rgba[::-1, :, :PNG_CHANNELS[settings.packing]], int(settings.bit_depth))
+        png = resampled_png(laid, settings.packing, settings.bit_depth, textures)
         image = store_png_image("{}_AO_{}".format(ob.name, target), png, marks=(OURS_KEY, EXPORT_KEY))
         if settings.gltf_occlusion:
             for material in {s.material for s in ob.material_slots if s.material is not None}:

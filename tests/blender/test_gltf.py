@@ -129,7 +129,7 @@ def test_packed_images_carry_each_value_in_its_channel(packing, channels, fresh_
     for name, channel in channels.items():
         if name != "occlusion":
             assert np.abs(pixels[:, :, channel] - expected[name]).max() <= 0.5 / 65535 + 1e-7, name
-    with pytest.raises(addon.SeamlessAOError, match="Unity mask map carries the AO in G"):
+    with pytest.raises(addon.SeamlessAOError, match="Unity Mask Map packing carries the AO in G"):
         addon.resample([ob], packing="UNITY_MASK", gltf_occlusion=True)
 
 
@@ -196,7 +196,7 @@ def test_batch_ships_a_greyscale_8_bit_occlusion_texture_that_reads_back_right(s
     reference = plain_ao(positions, triangles, points, shading, geometric, REACH, rays=1024, seed=9)
     rmse, p99 = errors(shown, reference)
     assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (rmse, p99)
-    with pytest.raises(seamless_ao.SeamlessAOError, match="Unity mask map carries the AO in G"):
+    with pytest.raises(seamless_ao.SeamlessAOError, match="Unity Mask Map packing carries the AO in G"):
         seamless_ao.batch([str(clean)], output_dir=str(tmp_path), texture_packing="UNITY_MASK")
 
 
