@@ -3,14 +3,13 @@
     python operators/standalone/launch.py command FILE.blend bake --rays 32 --save
     python operators/standalone/launch.py command batch assets/ --output-dir baked/   (make batch)
 
-Opens the file (if the first argument is a .blend), registers the add-on as
-Blender does at start-up, and runs the ``seamless_ao`` command
+With the add-on registered (by :mod:`.launch`, as Blender does at start-up),
+opens the file (if the first argument is a .blend) and runs the ``seamless_ao`` command
 (:mod:`..ui.command_line`); returns its exit code.
 """
 
 import bpy
 
-from ... import register
 from ..ui.command_line import run
 
 
@@ -18,5 +17,4 @@ def main(argv):
     argv = list(argv)
     if argv and argv[0].endswith(".blend"):
         bpy.ops.wm.open_mainfile(filepath=argv.pop(0))
-    register()
     return run(argv)

@@ -18,7 +18,6 @@ import time
 import bpy
 import numpy as np
 
-from ... import register
 from ...core.png import encode_png
 from ..adapters.exports import image_values
 from ..adapters.preview import set_preview
@@ -56,8 +55,7 @@ def main(argv):
     args = parser.parse_args(argv)
     out = pathlib.Path(args.output_dir).resolve()
     out.mkdir(parents=True, exist_ok=True)
-    register()
-    objects = demo_scene()
+    objects = demo_scene()                # the add-on registered by launch.py
 
     def progress(fraction, message, last=[-1]):
         if int(fraction * 10) != last[0]:

@@ -30,6 +30,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 NAME = "seamless_ao_standalone"
 ENTRY_POINTS = {"command": "operators.standalone.command", "demo": "operators.standalone.demo",
                 "worker": "operators.batch.worker", "bake-worker": "operators.background.bake_worker"}
+#: The entry points that run with the add-on registered, as Blender registers it at start-up (before a file).
+REGISTERED = {"command", "demo"}
 
 
 def load_package(name=NAME):
@@ -55,8 +57,10 @@ def main(argv):
     for entry in os.environ.get("SEAMLESS_AO_PATHS", "").split(os.pathsep):
         if entry and entry not in sys.path:
             sys.path.append(entry)
-    load_package()
+    package = load_package()
     importlib.import_module(NAME + ".operators.adapters.cycles_device").apply_from_environment()
+    if argv[0] in REGISTERED:
+        package.register()
     return importlib.import_module(NAME + "." + ENTRY_POINTS[argv[0]]).main(argv[1:])
 
 

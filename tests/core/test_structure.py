@@ -124,3 +124,11 @@ def test_export_settings_are_declared_in_core_settings_only():
                              for arg, default in pairs if arg.arg in names and isinstance(default, ast.Constant)
                              and default.value is not None and (name, arg.arg) not in NOT_EXPORT_SETTINGS]
     assert not declared, declared
+
+
+def test_no_module_imports_the_package_root():
+    """The root only registers and re-exports; nothing below it reaches back up (the launcher registers the add-on
+    for the processes that need it)."""
+    modules = package_modules()
+    upward = sorted(name for name, path in modules.items() if name and "" in imported_modules(name, path, modules))
+    assert not upward, upward
