@@ -220,21 +220,8 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     if not live.any():
         raise SeamlessAOError("The mesh has no face with area; there is nothing to pack")
     member_area = _member_plane_area(mesh, charts, member_triangle, member_chart)
-    factor = np.ones(charts.count)
-    if _may_be_long(mesh, float(member_area[live].sum()), image_size, density):
-        # chart boxes from the members (covers at the common density first would band a spike's chart 10^9 times)
-        low, high = group_boxes(local_uv[live], member_chart[live], charts.count)
-        longest = np.where(np.isfinite(low[:, 0]), (high - low).max(axis=1), 0.0)
-        stray = np.zeros(charts.count, dtype=bool)
-        stray[member_chart[mesh.stray[member_triangle]]] = True
-        if image_size is not None:
-            factor = long_chart_factors(longest, member_area[live], member_chart[live],
-                                        LONG_CHART_IMAGES * image_size, image_size=image_size, stray=stray)
-        else:
-            factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_TEXELS,
-                                        density=density, stray=stray)
-            if (factor[member_chart[live]] < 1.0).mean() > FEW_LONG_MEMBERS:
-                factor[:] = 1.0             # the mesh itself is that large at this density: refused below
+    factor = _long_chart_scale(mesh, charts, local_uv, member_area, member_triangle, member_chart, live,
+                               image_size, density)
     if (factor < 1.0).any():
         # a chart only moves and scales in its plane, so scaling its coordinates is all it takes
         local_uv *= factor[member_chart][:, None, None]
@@ -249,28 +236,33 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
                                    image_size / np.sqrt(max(area, 1e-300)))
     padding = effective_padding(covers.extent, expected, xatlas_padding(padding))
     packer = Packer(covers, _chart_centres(mesh, member_triangle, member_chart, charts.count), padding)
-
-    if image_size is not None:
-        placement = largest_density(packer, int(image_size), area)
-    else:
-        # xatlas has no memory limit of its own: refuse what cannot fit before asking it.
-        needed = max(np.sqrt(area) * density, float(covers.extent.max()) * density + 2 * padding)
-        if needed > max_size:
-            raise SeamlessAOError(
-                "A texel density of {:g} needs an image of about {:.0f} texels or more across, larger than {}; "
-                "lower the density".format(density, needed, max_size))
-        placement = packer.place(density, 0, share=1)
-        if placement is None:                       # xatlas reshaped a chart: no layout at this density
-            raise SeamlessAOError(
-                "Could not lay out the charts at a texel density of {:g}; choose Image Size instead".format(density))
-        if max(placement.width, placement.height) > max_size:
-            raise SeamlessAOError(
-                "A texel density of {:g} needs a {}x{} image, larger than {}; lower the density".format(
-                    density, placement.width, placement.height, max_size))
-
+    placement = (largest_density(packer, int(image_size), area) if image_size is not None
+                 else _place_at_density(packer, covers, area, density, padding, max_size))
     transforms = placement.transforms()                                    # (c, 2, 3)
     member_uv = _apply(transforms[member_chart], local_uv)
-    # Triangles of faces in no chart (zero area) get a member in a neighbour's chart.
+    placed = len(member_triangle)
+    member_triangle, member_chart, member_uv, dominant_member = _members_with_orphans(
+        mesh, topology, charts, membership, member_triangle, member_chart, member_uv, transforms, factor)
+    point_member = _largest_member(mesh, member_triangle, member_chart, charts.count, placed,
+                                   placement.point_texel >= 0)
+    width, height = placement.width, placement.height                     # texels
+    point_texels = len(np.unique(placement.point_texel[placement.point_texel >= 0]))
+    drawn_area = float(member_area[live & (placement.point_texel[member_chart[:len(live)]] < 0)].sum())
+    return Atlas(
+        width=width, height=height, density=placement.density,
+        utilisation=float(min(1.0, (drawn_area * placement.density**2 + point_texels) / (width * height))),
+        member_triangle=member_triangle, member_chart=member_chart, member_uv=member_uv,
+        membership=membership, dominant_member=dominant_member,
+        member_placed=np.arange(len(member_triangle)) < placed,
+        charts=charts, chart_texel=placement.point_texel, chart_texel_member=point_member,
+        padding=padding, warnings=_long_chart_warning(factor) + placement.warnings())
+
+
+def _members_with_orphans(mesh, topology, charts, membership, member_triangle, member_chart, member_uv, transforms,
+                          factor):
+    """The members with one more for each triangle of a face in no chart (zero area: a neighbour's chart,
+    :func:`_adopt_orphans`), at the end; and ``dominant_member`` (t,): each triangle's member on its face's
+    dominant axis (an orphan's own)."""
     orphan_triangle, orphan_chart = _adopt_orphans(mesh, topology, charts)
     if len(orphan_triangle):
         orphan_local, _ = project(mesh.corners[orphan_triangle], charts.chart_axis[orphan_chart][:, None])
@@ -283,20 +275,45 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     live_face = face_dominant >= 0
     dominant_member[live_face] = membership[live_face, face_dominant[live_face] // 2]
     dominant_member[orphan_triangle] = len(member_triangle) - len(orphan_triangle) + np.arange(len(orphan_triangle))
+    return member_triangle, member_chart, member_uv, dominant_member
 
-    point_member = _largest_member(mesh, member_triangle, member_chart, charts.count,
-                                   len(member_triangle) - len(orphan_triangle), placement.point_texel >= 0)
-    width, height = placement.width, placement.height
-    point_texels = len(np.unique(placement.point_texel[placement.point_texel >= 0]))
-    drawn_area = float(member_area[live & (placement.point_texel[member_chart[:len(live)]] < 0)].sum())
-    return Atlas(
-        width=width, height=height, density=placement.density,
-        utilisation=float(min(1.0, (drawn_area * placement.density**2 + point_texels) / (width * height))),
-        member_triangle=member_triangle, member_chart=member_chart, member_uv=member_uv,
-        membership=membership, dominant_member=dominant_member,
-        member_placed=np.arange(len(member_triangle)) < len(member_triangle) - len(orphan_triangle),
-        charts=charts, chart_texel=placement.point_texel, chart_texel_member=point_member,
-        padding=padding, warnings=_long_chart_warning(factor) + placement.warnings())
+
+def _long_chart_scale(mesh, charts, local_uv, member_area, member_triangle, member_chart, live, image_size, density):
+    """(c,) float: each chart's own scale, 1 but for the long charts :func:`long_chart_factors` shrinks."""
+    factor = np.ones(charts.count)
+    if not _may_be_long(mesh, float(member_area[live].sum()), image_size, density):
+        return factor
+    # chart boxes from the members (covers at the common density first would band a spike's chart 10^9 times)
+    low, high = group_boxes(local_uv[live], member_chart[live], charts.count)
+    longest = np.where(np.isfinite(low[:, 0]), (high - low).max(axis=1), 0.0)
+    stray = np.zeros(charts.count, dtype=bool)
+    stray[member_chart[mesh.stray[member_triangle]]] = True
+    if image_size is not None:
+        return long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_IMAGES * image_size,
+                                  image_size=image_size, stray=stray)
+    factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_TEXELS,
+                                density=density, stray=stray)
+    if (factor[member_chart[live]] < 1.0).mean() > FEW_LONG_MEMBERS:
+        factor[:] = 1.0             # the mesh itself is that large at this density: refused below
+    return factor
+
+
+def _place_at_density(packer, covers, area, density, padding, max_size):
+    """The placement at a given texel ``density``, or a :class:`SeamlessAOError` where it needs an image over
+    ``max_size`` (asked before xatlas runs: it has no memory limit of its own) or cannot be laid out."""
+    needed = max(np.sqrt(area) * density, float(covers.extent.max()) * density + 2 * padding)
+    if needed > max_size:
+        raise SeamlessAOError(
+            "A texel density of {:g} needs an image of about {:.0f} texels or more across, larger than {}; "
+            "lower the density".format(density, needed, max_size))
+    placement = packer.place(density, 0, share=1)
+    if placement is None:                       # xatlas reshaped a chart: no layout at this density
+        raise SeamlessAOError(
+            "Could not lay out the charts at a texel density of {:g}; choose Image Size instead".format(density))
+    if max(placement.width, placement.height) > max_size:
+        raise SeamlessAOError("A texel density of {:g} needs a {}x{} image, larger than {}; lower the density".format(
+            density, placement.width, placement.height, max_size))
+    return placement
 
 
 def long_chart_factors(longest, member_area, member_chart, limit, image_size=None, density=None, utilisation=0.7,

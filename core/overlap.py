@@ -6,6 +6,8 @@ A chart is injective when no two of its triangles cover the same 2D point
 are not wildly different in size, never O(n²).
 """
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
@@ -284,13 +286,41 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     (p, 2) int64 triangle pairs, ``i < j``, unique; one pair per problem is
     enough for the caller to split the chart between them.
     """
-    found = [np.zeros((0, 2), dtype=np.int64)]
     live = np.flatnonzero(group >= 0)
     if len(live) < 2:
-        return found[0]
+        return np.zeros((0, 2), dtype=np.int64)
     slope = np.zeros(len(uv)) if slope is None else slope
     depth_tolerance = np.broadcast_to(np.asarray(depth_tolerance, dtype=np.float64), (len(uv),))
     touch = np.broadcast_to(np.asarray(touch, dtype=np.float64), (len(uv),))
+    sides = chart_sides(group, welded_triangles, live)
+    later = memory is not None and memory.rounds > 0         # a round after the first, with what it found
+    found = [_boundary_conflicts(uv, depth, group, triangle_face, sides, depth_tolerance, touch, margin, slope,
+                                 memory, later)]
+    found += _fan_conflicts(uv, depth, group, welded_triangles, live, sides, depth_tolerance, memory, later)
+    found.append(_shared_side_conflicts(uv, depth, triangle_face, sides, depth_tolerance))
+    return unique_pairs(np.concatenate(found))
+
+
+class ChartSides(NamedTuple):
+    """Every side of every chart triangle, sorted so each chart's uses of one edge are a run.
+
+    ``tri``, ``corner`` (s,) int: the triangle and its corner the side starts at; ``low``, ``high`` (s,) int: its
+    welded ends; ``forward`` (s,) bool: it runs from ``low`` to ``high``; ``starts`` (r + 1,) int: where each
+    run (one edge of one chart) starts; ``uses`` (r,) int: its length; ``boundary`` (b,) int: the sides used
+    once (the charts' boundaries)."""
+
+    tri: np.ndarray
+    corner: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+    forward: np.ndarray
+    starts: np.ndarray
+    uses: np.ndarray
+    boundary: np.ndarray
+
+
+def chart_sides(group, welded_triangles, live):
+    """:class:`ChartSides` of the triangles ``live`` (``group`` (t,) their chart); zero-length sides left out."""
     tri = np.repeat(live, 3)
     corner = np.tile(np.arange(3), len(live))
     v0 = welded_triangles[tri, corner]
@@ -304,16 +334,20 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     change[1:] = (low[1:] != low[:-1]) | (high[1:] != high[:-1]) | (group[tri[1:]] != group[tri[:-1]])
     starts = np.concatenate((np.flatnonzero(change), [len(tri)]))
     uses = np.diff(starts)
+    return ChartSides(tri, corner, low, high, forward, starts, uses, starts[:-1][uses == 1])
 
-    # 1. Boundary edges that touch or come close.
-    boundary = starts[:-1][uses == 1]
-    b_tri, b_corner = tri[boundary], corner[boundary]
+
+def _boundary_conflicts(uv, depth, group, triangle_face, sides, depth_tolerance, touch, margin, slope, memory,
+                        later):
+    """1. Boundary sides of one chart that touch or come within the margin, their depths apart by more than
+    the tolerance and the slopes explain: (p, 2) triangle pairs (:func:`fold_conflicts`)."""
+    boundary = sides.boundary
+    b_tri, b_corner = sides.tri[boundary], sides.corner[boundary]
     seg = np.stack([uv[b_tri, b_corner], uv[b_tri, (b_corner + 1) % 3]], axis=1)     # (b, 2, 2)
     seg_depth = np.stack([depth[b_tri, b_corner], depth[b_tri, (b_corner + 1) % 3]], axis=1)
-    touch_most = float(touch[live].max())
+    touch_most = float(touch[np.flatnonzero(group >= 0)].max())
     fresh = None                                 # sides not paired up in an earlier round (None: all)
     boundary_hits = np.zeros((0, 2), dtype=np.int64)
-    later = memory is not None and memory.rounds > 0         # a round after the first, with what it found
     if later:
         fresh = ~memory.boundary_side[b_tri, b_corner]
         a, b = memory.conflicts[:, 0], memory.conflicts[:, 1]
@@ -334,7 +368,7 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         pairs = candidate_pairs(seg, seg_group, max(touch_most, margin), query=fresh)
     if len(pairs):
         a, b = may_conflict(seg, seg_depth, pairs, slope[b_tri], touch_most, margin)
-        b_low, b_high = low[boundary], high[boundary]
+        b_low, b_high = sides.low[boundary], sides.high[boundary]
         ends_a = np.stack([b_low[a], b_high[a]], 1)
         ends_b = np.stack([b_low[b], b_high[b]], 1)
         shared = (ends_a[:, :, None] == ends_b[:, None, :]).any(axis=(1, 2))
@@ -354,18 +388,21 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         depth_gap = np.abs(depth_a - depth_b)
         hit = (touching & (depth_gap > explained)) | (near & (depth_gap > explained + margin))
         boundary_hits = np.concatenate([boundary_hits, np.stack([b_tri[a][hit], b_tri[b][hit]], 1)])
-    found.append(boundary_hits)
     if memory is not None:
         memory.boundary_side[b_tri, b_corner] = True
         memory.conflicts = boundary_hits
         memory.rounds += 1
+    return boundary_hits
 
-    # 2. Vertices whose fan turns more than once, or where wedges of the chart overlap: only where four
-    #    boundary sides of one chart or more meet can it have two wedges there.
+
+def _fan_conflicts(uv, depth, group, welded_triangles, live, sides, depth_tolerance, memory, later):
+    """2. Vertices whose fan turns more than once, or where wedges of the chart overlap (only where four
+    boundary sides of one chart or more meet can it have two wedges there): [fan pairs, wedge pairs]."""
     fan_vertices = memory.fan_vertices if later else None
     fan_vertex, fan_pairs = overwound_fans(uv, group, welded_triangles, live, fan_vertices)
     vertex_count = int(welded_triangles.max()) + 1
-    ends = np.concatenate([low[boundary], high[boundary]])
+    b_tri = sides.tri[sides.boundary]
+    ends = np.concatenate([sides.low[sides.boundary], sides.high[sides.boundary]])
     keys, meeting = np.unique(np.concatenate([group[b_tri], group[b_tri]]) * vertex_count + ends,
                               return_counts=True)
     wedge_vertex, wedge_pairs = overlapping_wedges(uv, group, welded_triangles, live, keys[meeting >= 4],
@@ -373,36 +410,38 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     one, two = wedge_pairs[:, 0], wedge_pairs[:, 1]
     tolerance = np.maximum(depth_tolerance[one], depth_tolerance[two])
     apart = overlap_depth_gap(uv[one], depth[one], uv[two], depth[two], closed=True) > tolerance
-    found += [fan_pairs, wedge_pairs[apart]]
     if memory is not None and not later:
         memory.fan_vertices = np.zeros(vertex_count, dtype=bool)
         memory.fan_vertices[np.concatenate([fan_vertex, wedge_vertex[apart]])] = True
+    return [fan_pairs, wedge_pairs[apart]]
 
-    # 3. Sides shared by 3+ chart triangles: two of them on the same side overlap.  All such pairs of all
-    #    these sides at once: a non-manifold chart (an interior's touching boxes) has thousands.  A side of
-    #    two chart triangles that both run it the same way (winding flipped across it, as in a scan's
-    #    patches or a cap put on backwards) has both on one side too: every chart triangle faces the axis,
-    #    so both turn counter-clockwise in the chart's plane.
+
+def _shared_side_conflicts(uv, depth, triangle_face, sides, depth_tolerance):
+    """3. Sides shared by 3+ chart triangles: two of them on the same side overlap.  All such pairs of all
+    these sides at once: a non-manifold chart (an interior's touching boxes) has thousands.  A side of two
+    chart triangles that both run it the same way (winding flipped across it, as in a scan's patches or a
+    cap put on backwards) has both on one side too: every chart triangle faces the axis, so both turn
+    counter-clockwise in the chart's plane.  (p, 2) triangle pairs."""
+    tri, corner, starts, uses = sides.tri, sides.corner, sides.starts, sides.uses
     same_way = np.zeros(len(uses), dtype=bool)
     pair_start = starts[:-1][uses == 2]
-    same_way[uses == 2] = forward[pair_start] == forward[pair_start + 1]
+    same_way[uses == 2] = sides.forward[pair_start] == sides.forward[pair_start + 1]
     shared = (uses > 2) | same_way
     shared_starts, shared_uses = starts[:-1][shared], uses[shared]
-    if len(shared_starts):
-        pairs = pairs_within_groups(np.concatenate([[0], np.cumsum(shared_uses)]))
-        lead = np.repeat(shared_starts, shared_uses)         # each side's first member gives the edge's direction
-        position = lead + index_in_runs(shared_uses)
-        members, sides = tri[position], corner[position]
-        edge_a = uv[tri[lead], corner[lead]]
-        edge_b = uv[tri[lead], (corner[lead] + 1) % 3]
-        third = uv[members, (sides + 2) % 3]
-        direction = edge_b - edge_a
-        side = np.sign(direction[:, 0] * (third[:, 1] - edge_a[:, 1]) - direction[:, 1] * (third[:, 0] - edge_a[:, 0]))
-        one, two = members[pairs[:, 0]], members[pairs[:, 1]]
-        same_side = (side[pairs[:, 0]] == side[pairs[:, 1]]) & (triangle_face[one] != triangle_face[two])
-        one, two = one[same_side], two[same_side]
-        tolerance = np.maximum(depth_tolerance[one], depth_tolerance[two])
-        folded = overlap_depth_gap(uv[one], depth[one], uv[two], depth[two], closed=True) > tolerance
-        found.append(np.stack([one[folded], two[folded]], axis=1))
-
-    return unique_pairs(np.concatenate(found))
+    if not len(shared_starts):
+        return np.zeros((0, 2), dtype=np.int64)
+    pairs = pairs_within_groups(np.concatenate([[0], np.cumsum(shared_uses)]))
+    lead = np.repeat(shared_starts, shared_uses)         # each side's first member gives the edge's direction
+    position = lead + index_in_runs(shared_uses)
+    members, side_corner = tri[position], corner[position]
+    edge_a = uv[tri[lead], corner[lead]]
+    edge_b = uv[tri[lead], (corner[lead] + 1) % 3]
+    third = uv[members, (side_corner + 2) % 3]
+    direction = edge_b - edge_a
+    side = np.sign(direction[:, 0] * (third[:, 1] - edge_a[:, 1]) - direction[:, 1] * (third[:, 0] - edge_a[:, 0]))
+    one, two = members[pairs[:, 0]], members[pairs[:, 1]]
+    same_side = (side[pairs[:, 0]] == side[pairs[:, 1]]) & (triangle_face[one] != triangle_face[two])
+    one, two = one[same_side], two[same_side]
+    tolerance = np.maximum(depth_tolerance[one], depth_tolerance[two])
+    folded = overlap_depth_gap(uv[one], depth[one], uv[two], depth[two], closed=True) > tolerance
+    return np.stack([one[folded], two[folded]], axis=1)

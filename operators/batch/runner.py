@@ -77,39 +77,19 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         each other.  And any glTF setting
         (:class:`~..core.settings.GltfSettings`: ``uv_policy``,
         ``color_attribute``, ``texture_size``, ``texture_padding``,
-        ``texture_packing``, ``texture_bit_depth``; docs/settings.md).
-        ``uv_policy="auto"`` takes the object's own UV map where it can hold
-        the AO (:func:`~...core.uv_fitness.uv_fitness`: no shared UV space, no
-        tiling, no collapsed faces), else a new map ``AO_UV`` (the second UV
-        set, ``texCoord`` 1), and the record's warnings say why; an object
-        without UVs always gets a new one.
+        ``texture_packing``, ``texture_bit_depth``; docs/settings.md): where
+        ``uv_policy`` is ``auto``, the record's warnings say why an object's own
+        UV map could not hold the AO (:func:`~...core.uv_fitness.uv_fitness`).
 
     Raises
     ------
     SeamlessAOError
         For a bad setting, or when ``paths`` name no asset at all.
     """
-    gltf_names = {f.name for f in gltf_fields()}
-    given_gltf = {name: value for name, value in settings.items() if name in gltf_names}
-    if given_gltf.get("color_attribute", "NONE") is None:        # the API's "no colour attribute"
-        given_gltf["color_attribute"] = "NONE"
-    gltf = GltfSettings.from_kwargs(**given_gltf)
-    bake_settings = BakeSettings.from_kwargs(**dict(BATCH_DEFAULTS, **{
-        name: value for name, value in settings.items() if name not in gltf_names}))
-    if bake_settings.save_image != "NONE":
-        raise SeamlessAOError("save_image is not available in a batch: the AO goes into each output file (packed "
-                              "into the .blend, embedded in the .glb), and files beside the inputs would leave "
-                              "the output folder")
+    bake_settings, gltf = batch_settings(settings)
+    jobs = _worker_count(jobs, scheduler)
     if timeout is not None and not timeout > 0:
         raise SeamlessAOError("timeout must be a number of seconds above 0 (got {!r})".format(timeout))
-    if scheduler is not None and jobs is not None:
-        raise SeamlessAOError("give --jobs or --scheduler, not both: on a Dask cluster its workers decide how many "
-                              "assets bake at once")
-    if jobs is None:
-        jobs = os.cpu_count() or 1
-    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
-        raise SeamlessAOError("jobs must be a whole number of worker processes, at least 1 (got {!r}); leave it "
-                              "out for one per core".format(jobs))
     progress = progress or (lambda line: print(line, file=sys.stderr, flush=True))
 
     assets, unreadable = find_assets(paths, pattern)
@@ -128,14 +108,8 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
     started = time.perf_counter()
     for record in records:
         progress(progress_line(len(records), total, record, time.perf_counter() - started))
-    queue = []
-    for asset in assets:
-        stamp = None if force else previous_result(asset, outputs[asset], digest)
-        if stamp is None:
-            queue.append(asset)
-            continue
-        record = AssetRecord(input=str(asset), output=str(outputs[asset]), skipped=True,
-                             status="skipped" if stamp["status"] == "baked" else "failed", error=stamp["error"])
+    queue, standing = _still_to_bake(assets, outputs, digest, force)
+    for record in standing:
         records.append(record)
         progress(progress_line(len(records), total, record, time.perf_counter() - started))
 
@@ -152,6 +126,51 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
     if report is not None:
         write_report(report, records, job_options, time.perf_counter() - started)
     return records
+
+
+def batch_settings(settings):
+    """``(BakeSettings, GltfSettings)`` of a batch's keywords: the bake's defaults but
+    :data:`BATCH_DEFAULTS`, the glTF's; an error for a setting a batch cannot take."""
+    gltf_names = {f.name for f in gltf_fields()}
+    given_gltf = {name: value for name, value in settings.items() if name in gltf_names}
+    if given_gltf.get("color_attribute", "NONE") is None:        # the API's "no colour attribute"
+        given_gltf["color_attribute"] = "NONE"
+    bake_settings = BakeSettings.from_kwargs(**dict(BATCH_DEFAULTS, **{
+        name: value for name, value in settings.items() if name not in gltf_names}))
+    if bake_settings.save_image != "NONE":
+        raise SeamlessAOError("save_image is not available in a batch: the AO goes into each output file (packed "
+                              "into the .blend, embedded in the .glb), and files beside the inputs would leave "
+                              "the output folder")
+    return bake_settings, GltfSettings.from_kwargs(**given_gltf)
+
+
+def _worker_count(jobs, scheduler):
+    """Worker processes at once: ``jobs``, else one per core; an error for a count that is none, or beside
+    a scheduler (whose workers decide)."""
+    if scheduler is not None and jobs is not None:
+        raise SeamlessAOError("give --jobs or --scheduler, not both: on a Dask cluster its workers decide how many "
+                              "assets bake at once")
+    if jobs is None:
+        return os.cpu_count() or 1
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise SeamlessAOError("jobs must be a whole number of worker processes, at least 1 (got {!r}); leave it "
+                              "out for one per core".format(jobs))
+    return jobs
+
+
+def _still_to_bake(assets, outputs, digest, force):
+    """``(assets to bake, records of the others)``: an asset whose earlier result stands (its stamp: baked
+    and up to date, or failed with the same input and settings) is not baked again unless ``force``."""
+    queue, standing = [], []
+    for asset in assets:
+        stamp = None if force else previous_result(asset, outputs[asset], digest)
+        if stamp is None:
+            queue.append(asset)
+        else:
+            status = "skipped" if stamp["status"] == "baked" else "failed"
+            standing.append(AssetRecord(input=str(asset), output=str(outputs[asset]), skipped=True, status=status,
+                                        error=stamp["error"]))
+    return queue, standing
 
 
 def _run_workers(queue, outputs, job_options, jobs, scratch, timeout=None):
