@@ -23,7 +23,7 @@ module                    step
 :mod:`.denoise`           the edge-aware texel filter
 :mod:`.fill`              the finished image
 :mod:`.pipeline`          the whole bake, step by step
-:mod:`.blend`             the node group's normal-squared blend in numpy
+:mod:`.shown`             the node group's normal-squared blend in numpy
 :mod:`.transfer`          the AO onto another UV map, corners, vertices
 ========================  ==============================================
 """

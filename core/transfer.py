@@ -1,12 +1,12 @@
 """Take the AO out of Blender: one texture on the user's own UV map, or per-corner colours.
 
 Both evaluate exactly what the ``Seamless AO`` node group shows (see
-:mod:`.blend`), from the baked image and the AO_X/Y/Z UVs; no ray is cast.
+:mod:`.shown`), from the baked image and the AO_X/Y/Z UVs; no ray is cast.
 """
 
 import numpy as np
 
-from .blend import blended_ao
+from .shown import blended_ao
 from .fill import pull_push
 from .geometry2d import closest_barycentric, cross2d
 from .packings import BY_ID, pack_channels
@@ -25,7 +25,7 @@ def shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength=1.0, i
     triangle : (k,) int
     bary : (k, 3) float
     strength, interreflection : float, or (t,) float per triangle
-        The node's inputs (its material's), see :func:`.blend.blended_ao`.
+        The node's inputs (its material's), see :func:`.shown.blended_ao`.
 
     Returns
     -------

@@ -105,7 +105,7 @@ def _texture_channel(socket, default_uv_map):
     return texture.image, SEPARATED[link.from_socket.name], uv_map
 
 
-def _socket(sockets, identifier):
+def socket_named(sockets, identifier):
     return next(s for s in sockets if s.identifier == identifier)
 
 
@@ -175,19 +175,19 @@ def _insert_multiply(tree, principled, group_node):
     mix.data_type = "RGBA"
     mix.blend_type = "MULTIPLY"
     mix.location = (principled.location.x - 220.0, principled.location.y + 160.0)
-    _socket(mix.inputs, "Factor_Float").default_value = 1.0
-    original = _socket(mix.inputs, "A_Color")
+    socket_named(mix.inputs, "Factor_Float").default_value = 1.0
+    original = socket_named(mix.inputs, "A_Color")
     if base.is_linked:
         links.new(base.links[0].from_socket, original)
     else:
         original.default_value = tuple(base.default_value)
-    links.new(group_node.outputs["AO"], _socket(mix.inputs, "B_Color"))
-    links.new(_socket(mix.outputs, "Result_Color"), base)
+    links.new(group_node.outputs["AO"], socket_named(mix.inputs, "B_Color"))
+    links.new(socket_named(mix.outputs, "Result_Color"), base)
 
 
 def _remove_multiply(tree, mix, principled):
     """Put back what Base Color had before the multiply, then delete the node."""
-    original = _socket(mix.inputs, "A_Color")
+    original = socket_named(mix.inputs, "A_Color")
     if principled is not None:
         base = principled.inputs["Base Color"]
         if original.is_linked:
@@ -246,7 +246,7 @@ def _restore_surface(material, tree, surface):
         node_name, identifier = source.split("|", 1)
         node = tree.nodes.get(node_name)
         if node is not None:
-            tree.links.new(_socket(node.outputs, identifier), surface)
+            tree.links.new(socket_named(node.outputs, identifier), surface)
 
 
 def unhook_material(material):

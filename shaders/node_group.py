@@ -42,7 +42,7 @@ def node_group():
     return group
 
 
-def _socket(group, name, in_out, kind, default=None, low=None, high=None, description=""):
+def _new_socket(group, name, in_out, kind, default=None, low=None, high=None, description=""):
     socket = group.interface.new_socket(name, in_out=in_out, socket_type=kind)
     socket.description = description
     if default is not None:
@@ -58,14 +58,14 @@ def _build(group):
     group.nodes.clear()
     group.interface.clear()
     for axis in "XYZ":
-        _socket(group, "AO " + axis, "INPUT", "NodeSocketFloat", 1.0, 0.0, 1.0,
+        _new_socket(group, "AO " + axis, "INPUT", "NodeSocketFloat", 1.0, 0.0, 1.0,
                 "The AO image read through UV map AO_" + axis)
-    _socket(group, "Strength", "INPUT", "NodeSocketFloat", 1.0, 0.0, 1.0, "0 = no AO, 1 = full AO")
-    _socket(group, "Interreflection", "INPUT", "NodeSocketFloat", 0.0, 0.0, 0.95,
+    _new_socket(group, "Strength", "INPUT", "NodeSocketFloat", 1.0, 0.0, 1.0, "0 = no AO, 1 = full AO")
+    _new_socket(group, "Interreflection", "INPUT", "NodeSocketFloat", 0.0, 0.0, 0.95,
             "Brighten AO for light bounced between surfaces (RTR 9.2.4): ao / (1 - c (1 - ao))")
-    _socket(group, "Stale", "INPUT", "NodeSocketFloat", 0.0, 0.0, 1.0,
+    _new_socket(group, "Stale", "INPUT", "NodeSocketFloat", 0.0, 0.0, 1.0,
             "1 where the modifier stack no longer gives the surface that was baked: no AO is shown there")
-    _socket(group, "AO", "OUTPUT", "NodeSocketFloat", description="Ambient occlusion, 1 = open, 0 = occluded")
+    _new_socket(group, "AO", "OUTPUT", "NodeSocketFloat", description="Ambient occlusion, 1 = open, 0 = occluded")
     nodes, links = group.nodes, group.links
 
     def math(operation, a=None, b=None, c=None, x=0.0, clamp=False):

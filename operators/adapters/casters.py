@@ -37,22 +37,22 @@ class NodesCaster(RayCaster):
 
     def __init__(self, positions, triangles, sealed=None):
         self._datablocks = []
-        self.scene = self._keep(bpy.data.scenes.new(TEMP_PREFIX + "scene"))
-        occluder_mesh = self._keep(mesh_from_triangles(TEMP_PREFIX + "occluders", positions, triangles))
+        self.scene = self._temporary(bpy.data.scenes.new(TEMP_PREFIX + "scene"))
+        occluder_mesh = self._temporary(mesh_from_triangles(TEMP_PREFIX + "occluders", positions, triangles))
         flag = np.zeros(len(triangles), dtype=np.float32) if sealed is None else np.asarray(sealed, dtype=np.float32)
         occluder_mesh.attributes.new("sealed", "FLOAT", "FACE").data.foreach_set("value", flag)
-        self.occluder = self._keep(bpy.data.objects.new(TEMP_PREFIX + "occluders", occluder_mesh))
+        self.occluder = self._temporary(bpy.data.objects.new(TEMP_PREFIX + "occluders", occluder_mesh))
         self.scene.collection.objects.link(self.occluder)
-        self.points_mesh = self._keep(bpy.data.meshes.new(TEMP_PREFIX + "rays"))
-        self.points = self._keep(bpy.data.objects.new(TEMP_PREFIX + "rays", self.points_mesh))
+        self.points_mesh = self._temporary(bpy.data.meshes.new(TEMP_PREFIX + "rays"))
+        self.points = self._temporary(bpy.data.objects.new(TEMP_PREFIX + "rays", self.points_mesh))
         self.scene.collection.objects.link(self.points)
-        self.group = self._keep(self._node_group())
+        self.group = self._temporary(self._node_group())
         modifier = self.points.modifiers.new("raycast", "NODES")
         modifier.node_group = self.group
         # Hide the occluder from the render, it only serves as the node's target.
         self.occluder.hide_render = True
 
-    def _keep(self, datablock):
+    def _temporary(self, datablock):
         self._datablocks.append(datablock)
         return datablock
 

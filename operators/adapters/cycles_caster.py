@@ -77,7 +77,7 @@ def pixel_uv(count, width):
 
 class CyclesAmbientOcclusion:
     """``ambient_occlusion``, Cycles' AO baked at given texels, for a caster with a temporary ``scene``, its
-    ``occluder`` object, ``_keep`` (datablocks removed with the caster), ``device`` (None until the first
+    ``occluder`` object, ``_temporary`` (datablocks removed with the caster), ``device`` (None until the first
     bake chooses it) and ``warnings``: :class:`.casters.CyclesCaster` is :class:`.casters.NodesCaster` with
     it."""
 
@@ -113,13 +113,13 @@ class CyclesAmbientOcclusion:
         """Cycles' AO bake of the texels' tiny triangles ``corners`` into one image row by row."""
         made = []
         try:
-            mesh = _keep(made, mesh_from_triangles(TEMP_PREFIX + "texels", corners.reshape(-1, 3),
+            mesh = _made(made, mesh_from_triangles(TEMP_PREFIX + "texels", corners.reshape(-1, 3),
                                                    np.arange(3 * count).reshape(-1, 3)))
             mesh.uv_layers.new(name="texels").data.foreach_set("uv", uv.astype(np.float32).ravel())
-            image = _keep(made, bpy.data.images.new(TEMP_PREFIX + "texels", IMAGE_WIDTH, height, alpha=False,
+            image = _made(made, bpy.data.images.new(TEMP_PREFIX + "texels", IMAGE_WIDTH, height, alpha=False,
                                                      float_buffer=True))
             image.colorspace_settings.name = "Non-Color"
-            material = _keep(made, bpy.data.materials.new(TEMP_PREFIX + "texels"))
+            material = _made(made, bpy.data.materials.new(TEMP_PREFIX + "texels"))
             if material.node_tree is None:
                 material.use_nodes = True
             # No surface shader at all: Cycles would evaluate a Principled BSDF at every sample (it took
@@ -129,7 +129,7 @@ class CyclesAmbientOcclusion:
             node.image = image
             material.node_tree.nodes.active = node
             mesh.materials.append(material)
-            texels = _keep(made, bpy.data.objects.new(TEMP_PREFIX + "texels", mesh))
+            texels = _made(made, bpy.data.objects.new(TEMP_PREFIX + "texels", mesh))
             for name in HIDDEN_FROM:
                 setattr(texels, name, False)
             self.scene.collection.objects.link(texels)
@@ -157,7 +157,7 @@ class CyclesAmbientOcclusion:
         self.occluder.hide_render = False              # Cycles must see it (the Raycast node reads it either way)
         scene.render.engine = "CYCLES"
         if scene.world is None:
-            scene.world = self._keep(bpy.data.worlds.new(TEMP_PREFIX + "world"))
+            scene.world = self._temporary(bpy.data.worlds.new(TEMP_PREFIX + "world"))
         scene.world.light_settings.distance = float(params.max_distance)
         cycles = scene.cycles
         cycles.device = self.device                     # the user's, from Cycles' preferences (.cycles_device)
@@ -170,6 +170,6 @@ class CyclesAmbientOcclusion:
         cycles.diffuse_bounces = 0
 
 
-def _keep(made, datablock):
+def _made(made, datablock):
     made.append(datablock)
     return datablock

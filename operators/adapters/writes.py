@@ -363,8 +363,8 @@ class MaterialSnapshot:
             for from_node, from_socket, to_node, to_socket in self.links:
                 source, target = tree.nodes.get(from_node), tree.nodes.get(to_node)
                 if source is not None and target is not None:
-                    tree.links.new(material_nodes._socket(source.outputs, from_socket),
-                                   material_nodes._socket(target.inputs, to_socket))
+                    tree.links.new(material_nodes.socket_named(source.outputs, from_socket),
+                                   material_nodes.socket_named(target.inputs, to_socket))
             for name, value in self.values.items():
                 tree.nodes[name].inputs["Base Color"].default_value = value
             for name, image in self.images.items():

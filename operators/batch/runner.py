@@ -18,7 +18,7 @@ import sys
 import tempfile
 import time
 
-from ...core.assets import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
+from ...core.batch_plan import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
                             remove_partial_output, settings_digest, write_stamp)
 from ...core.errors import SeamlessAOError
 from ...core.settings import BakeSettings, GltfSettings, gltf_fields

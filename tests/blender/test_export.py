@@ -10,7 +10,7 @@ from accuracy import surface_samples
 from blender_checks import image_array, uv_layer_array
 from blender_scenes import suzanne
 from package import run_command, seamless_ao
-from seamless_ao.core.blend import bilinear
+from seamless_ao.core.shown import bilinear
 from seamless_ao.core.transfer import shown_at
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 from seamless_ao.shaders.material import enable_nodes

@@ -13,7 +13,7 @@ from accuracy import errors, reference_ao, surface_samples
 from blender_checks import image_array, uv_layer_array
 from package import seamless_ao
 from plain_reference import plain_ao, visible_points
-from seamless_ao.core.blend import blended_ao
+from seamless_ao.core.shown import blended_ao
 from seamless_ao.core.keys import IMAGE_KEY, STACK_MODIFIER, STALE_ATTRIBUTE
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 from viewport_checks import shown_on_the_evaluated_surface

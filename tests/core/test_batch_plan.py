@@ -7,7 +7,7 @@ import pytest
 
 from package import seamless_ao
 
-plan = seamless_ao.core.assets
+plan = seamless_ao.core.batch_plan
 
 
 def touch(path, text="x", mtime=None):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import meshes
-from seamless_ao.core.blend import blend_weights
+from seamless_ao.core.shown import blend_weights
 from seamless_ao.core import job as job_module
 from seamless_ao.core.job import MIN_SHARED_RAYS, AOJob
 from seamless_ao.core.mesh import TriangleMesh

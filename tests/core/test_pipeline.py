@@ -8,7 +8,7 @@ import meshes
 from accuracy import P99_LIMIT, RMSE_LIMIT, errors
 from plain_reference import plain_ao, visible_points
 from seamless_ao.core.ao import noise_estimate
-from seamless_ao.core.blend import blended_ao
+from seamless_ao.core.shown import blended_ao
 from seamless_ao.core.layout import layer_lookup
 from seamless_ao.core.mesh import TriangleMesh
 from seamless_ao.core.pipeline import BakePipeline, bake_arrays
@@ -27,7 +27,7 @@ def ring_on_a_floor():
 
 
 def shown_at_visible_points(result, mesh, count=400):
-    """What the node group shows (core/blend.py) at random visible points, and those points' normals."""
+    """What the node group shows (core/shown.py) at random visible points, and those points' normals."""
     triangle, bary, points = visible_points(mesh.positions, mesh.triangles, count, seed=11)
     normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
