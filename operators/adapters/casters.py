@@ -4,9 +4,9 @@ bake at texels (:mod:`.cycles_caster`); and :func:`caster_maker`, which picks on
 ``BVHCaster`` for the settings.
 
 The rays of one batch become the vertices of a temporary point mesh with a
-``ray_dir`` attribute; a node group casts them against a temporary occluder
-mesh and stores hit distance and facing as attributes, read back with
-``foreach_get``.  Everything lives in a temporary scene, evaluated through a
+``ray_dir`` attribute; a node group (:mod:`...shaders.raycast_nodes`) casts
+them against a temporary occluder mesh and stores hit distance and facing as
+attributes, read back with ``foreach_get``.  Everything lives in a temporary scene, evaluated through a
 context override, so the user's scenes, objects and undo history are never
 touched; :meth:`NodesCaster.free` removes every datablock it made.
 
@@ -19,6 +19,7 @@ import numpy as np
 
 from ...core.keys import TEMP_PREFIX
 from ...core.rays import BVHCaster, RayCaster
+from ...shaders.raycast_nodes import raycast_group
 from .cycles_caster import CyclesAmbientOcclusion
 from .mesh_data import mesh_from_triangles
 
@@ -46,7 +47,8 @@ class NodesCaster(RayCaster):
         self.points_mesh = self._temporary(bpy.data.meshes.new(TEMP_PREFIX + "rays"))
         self.points = self._temporary(bpy.data.objects.new(TEMP_PREFIX + "rays", self.points_mesh))
         self.scene.collection.objects.link(self.points)
-        self.group = self._temporary(self._node_group())
+        self.group, self.cast_node = raycast_group(TEMP_PREFIX + "raycast", self.occluder)
+        self._temporary(self.group)
         modifier = self.points.modifiers.new("raycast", "NODES")
         modifier.node_group = self.group
         # Hide the occluder from the render, it only serves as the node's target.
@@ -55,49 +57,6 @@ class NodesCaster(RayCaster):
     def _temporary(self, datablock):
         self._datablocks.append(datablock)
         return datablock
-
-    def _node_group(self):
-        group = bpy.data.node_groups.new(TEMP_PREFIX + "raycast", "GeometryNodeTree")
-        group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-        group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-        nodes, links = group.nodes, group.links
-        group_in, group_out = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
-        target = nodes.new("GeometryNodeObjectInfo")
-        target.inputs["Object"].default_value = self.occluder
-        direction = nodes.new("GeometryNodeInputNamedAttribute")
-        direction.data_type = "FLOAT_VECTOR"
-        direction.inputs["Name"].default_value = "ray_dir"
-        sealed = nodes.new("GeometryNodeInputNamedAttribute")
-        sealed.data_type = "FLOAT"
-        sealed.inputs["Name"].default_value = "sealed"
-        cast = nodes.new("GeometryNodeRaycast")
-        cast.data_type = "FLOAT"
-        self.cast_node = cast
-        links.new(target.outputs["Geometry"], cast.inputs["Target Geometry"])
-        links.new(sealed.outputs["Attribute"], cast.inputs["Attribute"])
-        links.new(direction.outputs["Attribute"], cast.inputs["Ray Direction"])
-        miss = nodes.new("GeometryNodeSwitch")
-        miss.input_type = "FLOAT"
-        miss.inputs["False"].default_value = -1.0
-        links.new(cast.outputs["Is Hit"], miss.inputs["Switch"])
-        links.new(cast.outputs["Hit Distance"], miss.inputs["True"])
-        facing = nodes.new("ShaderNodeVectorMath")
-        facing.operation = "DOT_PRODUCT"
-        links.new(cast.outputs["Hit Normal"], facing.inputs[0])
-        links.new(direction.outputs["Attribute"], facing.inputs[1])
-        # One stored vector (distance, facing, sealed): one field evaluation, so
-        # the rays are cast once (two stores would evaluate the raycast twice).
-        combine = nodes.new("ShaderNodeCombineXYZ")
-        links.new(miss.outputs[0], combine.inputs["X"])
-        links.new(facing.outputs["Value"], combine.inputs["Y"])
-        links.new(cast.outputs["Attribute"], combine.inputs["Z"])
-        store = nodes.new("GeometryNodeStoreNamedAttribute")
-        store.data_type = "FLOAT_VECTOR"
-        store.inputs["Name"].default_value = "hit"
-        links.new(group_in.outputs[0], store.inputs["Geometry"])
-        links.new(combine.outputs["Vector"], store.inputs["Value"])
-        links.new(store.outputs["Geometry"], group_out.inputs[0])
-        return group
 
     def cast(self, origins, directions, max_distance):
         count = len(origins)

@@ -5,6 +5,7 @@ import bpy
 from ...core.keys import AO_LAYERS, CREATED_KEY, HELPER_KEY, IMAGE_KEY, MATERIAL_KEY, OURS_KEY
 from ...shaders import material as material_nodes
 from ...shaders.node_group import find_node_group
+from ...shaders.stack_nodes import find_stack_group
 from . import stack
 from .exports import clear_exports
 
@@ -59,7 +60,7 @@ def clear(objects):
             del ob[IMAGE_KEY]
             touched = True
         cleared += touched
-    for group in (find_node_group(), stack.find_stack_group()):
+    for group in (find_node_group(), find_stack_group()):
         if group is not None and group.users == 0:
             bpy.data.node_groups.remove(group)
     return cleared

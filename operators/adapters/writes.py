@@ -17,6 +17,7 @@ from ...core.keys import (AO_LAYERS, GROUP_VERSION, HELPER_KEY, IMAGE_KEY, MATER
 from ...core.png import encode_png
 from ...shaders import material as material_nodes
 from ...shaders.node_group import find_node_group, node_group as build_node_group
+from ...shaders.stack_nodes import stack_group
 from . import stack
 from .mesh_data import read_uv, write_uv
 
@@ -162,11 +163,11 @@ class Transaction:
         modifier = stack.stack_modifier(ob)
         if modifier is None:
             modifier = ob.modifiers.new(STACK_MODIFIER, "NODES")
-            modifier.node_group = stack.stack_group()
+            modifier.node_group = stack_group()
             modifier.use_pin_to_last = True                   # stays last when the artist adds modifiers
             self.undo.append(lambda ob=ob, name=modifier.name: ob.modifiers.remove(ob.modifiers[name]))
         else:
-            stack.stack_group()                               # rebuilt if a bake of an older version made it
+            stack_group()                               # rebuilt if a bake of an older version made it
             self.undo.append(lambda modifier=modifier, old=stack.helper_inputs(modifier):
                              stack.set_helper_inputs(modifier, *old))
             position = list(ob.modifiers).index(modifier)

@@ -1,8 +1,10 @@
-"""The package's shape: relative imports only, no import circle, no file over 450 lines, core free of bpy, one
-definition per class or public function name."""
+"""The package's shape: relative imports only, no import circle, no arrow back up to the root, no file over 450
+lines, core free of bpy, one definition per class or public function name, export settings declared in
+core/settings.py only, and a map of core/ that names every module."""
 
 import ast
 import pathlib
+import re
 
 from package import ROOT
 
@@ -132,3 +134,10 @@ def test_no_module_imports_the_package_root():
     modules = package_modules()
     upward = sorted(name for name, path in modules.items() if name and "" in imported_modules(name, path, modules))
     assert not upward, upward
+
+
+def test_the_core_map_names_every_core_module():
+    """core/__init__.py's table is the map of core/: every module in it, and nothing that is not there."""
+    mapped = set(re.findall(r":mod:`\.(\w+)`", (ROOT / "core" / "__init__.py").read_text()))
+    present = {path.stem for path in (ROOT / "core").glob("*.py") if path.stem != "__init__"}
+    assert mapped == present, (sorted(present - mapped), sorted(mapped - present))
