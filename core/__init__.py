@@ -5,56 +5,57 @@ arrays that can be called and tested on its own, and :mod:`.pipeline` chains
 them: meshes and a ray caster in, the AO image, the layout and the report's
 numbers out, step by step.
 
-Every module, by stage:
+Every module, by stage: one subpackage per stage, in the order a bake runs
+them, and the modules that chain or serve them all at the top.
 
-=======================  ======================================================
-module                   what it holds
-=======================  ======================================================
-**the bake**
-:mod:`.pipeline`         the whole bake on arrays, step by step
-:mod:`.settings`         every bake and export setting, defined once
-:mod:`.keys`             every name the add-on stores Blender data under
-:mod:`.errors`           the two exceptions
-:mod:`.budget`           the memory a bake will need, before it starts
-**mesh**
-:mod:`.mesh`             triangle meshes, welding, normals, the mesh report
-:mod:`.adjacency`        faces that share an edge (sorted edge keys)
-:mod:`.extent`           a mesh's size, a stray spike left out
-:mod:`.sealed`           triangles of closed pieces (what "inside" means)
-**charts**
-:mod:`.clustering`       overlapping signed-axis charts, made injective
-:mod:`.overlap`          fold conflicts of a chart, found from its boundary
-:mod:`.candidates`       which shapes of a chart to compare (a uniform grid)
-:mod:`.splitting`        how a folding chart is cut
-**atlas**
-:mod:`.atlas`            chart projection, density, the packed atlas and its UVs
-:mod:`.packing`          where each chart goes at one density (xatlas)
-:mod:`.cover`            coarse covers of charts, for the packer
-:mod:`.shelf`            shelf packing of the small charts
-:mod:`.raster`           texels and the surface point each samples
-:mod:`.layout`           mesh -> charts -> atlas -> texels, chained and timed
-:mod:`.viewport_uv`      AO UVs for a surface other than the one baked
-**rays**
-:mod:`.rays`             a mesh's rays: parameters, ray space, the casters
-:mod:`.sampling`         ray directions in a cone
-:mod:`.ao`               the occlusion of rays, buried points, the adaptive stop
-:mod:`.targets`          what rays are cast for: texels or points
-:mod:`.job`              the rays of every target, in batches
-**image**
-:mod:`.denoise`          the edge-aware texel filter
-:mod:`.fill`             the finished image (pull-push)
-:mod:`.shown`            what a material shows: the node group's blend in numpy
-**export**
-:mod:`.transfer`         the AO onto another UV map and into PNG bytes; corners
-:mod:`.packings`         every packing of a resampled image, one record each
-:mod:`.png`              PNG bytes of float images
-:mod:`.uv_fitness`       whether a UV map can hold the AO
-**other processes**
-:mod:`.batch_plan`       a batch without Blender data: assets, outputs, stamps
-:mod:`.handoff`          a bake handed to another process, as files
-**shared helpers**
-:mod:`.graph`            components, runs, pairs and sorts over index arrays
-:mod:`.geometry2d`       2D geometry on arrays of triangles and segments
-:mod:`.grid`             passes over a texel's 8 neighbours
-=======================  ======================================================
+==================================  ===========================================
+module                              what it holds
+==================================  ===========================================
+**the bake** (``core/``)
+:mod:`.pipeline`                    the whole bake on arrays, step by step
+:mod:`.layout`                      mesh -> charts -> atlas -> texels, chained and timed
+:mod:`.settings`                    every bake and export setting, defined once
+:mod:`.keys`                        every name the add-on stores Blender data under
+:mod:`.errors`                      the two exceptions
+:mod:`.budget`                      the memory a bake will need, before it starts
+**mesh** (``core/mesh/``)
+:mod:`.mesh.triangle_mesh`          triangle meshes, welding, normals, the mesh report
+:mod:`.mesh.adjacency`              faces that share an edge (sorted edge keys)
+:mod:`.mesh.extent`                 a mesh's size, a stray spike left out
+:mod:`.mesh.sealed`                 triangles of closed pieces (what "inside" means)
+**charts** (``core/charts/``)
+:mod:`.charts.clustering`           overlapping signed-axis charts, made injective
+:mod:`.charts.overlap`              fold conflicts of a chart, found from its boundary
+:mod:`.charts.candidates`           which shapes of a chart to compare (a uniform grid)
+:mod:`.charts.splitting`            how a folding chart is cut
+**atlas** (``core/atlas/``)
+:mod:`.atlas.chart_atlas`           chart projection, density, the packed atlas and its UVs
+:mod:`.atlas.packing`               where each chart goes at one density (xatlas)
+:mod:`.atlas.cover`                 coarse covers of charts, for the packer
+:mod:`.atlas.shelf`                 shelf packing of the small charts
+:mod:`.atlas.raster`                texels and the surface point each samples
+:mod:`.atlas.viewport_uv`           AO UVs for a surface other than the one baked
+**rays** (``core/rays/``)
+:mod:`.rays.ray_setup`              a mesh's rays: parameters, ray space, the casters
+:mod:`.rays.sampling`               ray directions in a cone
+:mod:`.rays.ao`                     the occlusion of rays, buried points, the adaptive stop
+:mod:`.rays.targets`                what rays are cast for: texels or points
+:mod:`.rays.job`                    the rays of every target, in batches
+**image** (``core/image/``)
+:mod:`.image.denoise`               the edge-aware texel filter
+:mod:`.image.fill`                  the finished image (pull-push)
+:mod:`.image.shown`                 what a material shows: the node group's blend in numpy
+**export** (``core/export/``)
+:mod:`.export.transfer`             the AO onto another UV map and into PNG bytes; corners
+:mod:`.export.packings`             every packing of a resampled image, one record each
+:mod:`.export.png`                  PNG bytes of float images
+:mod:`.export.uv_fitness`           whether a UV map can hold the AO
+**other processes** (``core/other_processes/``)
+:mod:`.other_processes.batch_plan`  a batch without Blender data: assets, outputs, stamps
+:mod:`.other_processes.handoff`     a bake handed to another process, as files
+**shared helpers** (``core/arrays/``)
+:mod:`.arrays.graph`                components, runs, pairs and sorts over index arrays
+:mod:`.arrays.geometry2d`           2D geometry on arrays of triangles and segments
+:mod:`.arrays.grid`                 passes over a texel's 8 neighbours
+==================================  ===========================================
 """

@@ -29,7 +29,7 @@ HELPER_KEY = "seamless_ao_helper"            # on objects: the object holding wh
 HELPER_PREFIX = ".SeamlessAO "               # the helper object and mesh (in no scene)
 STALE_ATTRIBUTE = "seamless_ao_stale"        # 1 where the stack no longer gives what was baked: no AO shown
 #: The stack group's object inputs: the helper with the baked surface's corners, and the helper with the
-#: viewport surface's corners where the viewport's levels differ from the render's (core/viewport_uv.py).
+#: viewport surface's corners where the viewport's levels differ from the render's (core/atlas/viewport_uv.py).
 STACK_INPUTS = ("Baked", "Viewport")
 
 # -- the shader nodes ------------------------------------------------------------------

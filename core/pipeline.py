@@ -8,8 +8,8 @@
     result = bake_arrays([mesh], settings=BakeSettings(rays=32))   # all steps at once, mathutils' BVH
 
 The steps: memory estimate, layout (charts, atlas, texels: :mod:`.layout`),
-each mesh's rays (:mod:`.rays`), the rays themselves in batches
-(:class:`.job.AOJob`), the noise estimate, the denoiser and the finished
+each mesh's rays (:mod:`.rays.ray_setup`), the rays themselves in batches
+(:class:`.rays.job.AOJob`), the noise estimate, the denoiser and the finished
 image.  The Blender side (``operators/adapters/session.py``) only reads the
 meshes, makes casters, and writes what :class:`BakeResult` holds.
 """
@@ -19,16 +19,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .ao import noise_estimate
+from .rays.ao import noise_estimate
 from .budget import check_budget, planned_size
-from .denoise import denoise
-from .fill import texel_image
-from .job import AOJob
+from .image.denoise import denoise
+from .image.fill import texel_image
+from .rays.job import AOJob
 from .layout import Layout, build_layout
-from .rays import BVHCaster, ray_part
+from .rays.ray_setup import BVHCaster, ray_part
 from .settings import BakeSettings
-from .targets import TexelTargets
-from .viewport_uv import surface_uv
+from .rays.targets import TexelTargets
+from .atlas.viewport_uv import surface_uv
 
 
 @dataclass
@@ -61,13 +61,13 @@ class BakeResult:
 
     def part_layer_drop(self, part):
         """(k, 3) int8: for input mesh ``part``'s triangles, the coordinate each one's chart in AO_X, AO_Y and
-        AO_Z projects away (:meth:`.atlas.Atlas.layer_drop`)."""
+        AO_Z projects away (:meth:`.atlas.chart_atlas.Atlas.layer_drop`)."""
         triangles = self.part_triangles(part)
         return np.stack([self.layout.atlas.layer_drop(axis, triangles) for axis in range(3)], axis=1)
 
     def part_shown_uv(self, part):
         """(3 layers, l, 2) float32: UVs for the corners of the surface input mesh ``part`` shows in the
-        viewport (:func:`.viewport_uv.surface_uv`), or None where none was given."""
+        viewport (:func:`.atlas.viewport_uv.surface_uv`), or None where none was given."""
         return self.shown_uv.get(part)
 
     def part_triangles(self, part):
@@ -85,10 +85,10 @@ class BakePipeline:
     meshes : list of TriangleMesh, in object space
     matrices : list of (4, 4) float, each mesh's world matrix (what its rays see)
     settings : BakeSettings
-    make_caster : callable ``(positions, triangles, sealed) -> RayCaster`` (:class:`.rays.BVHCaster`, or the
+    make_caster : callable ``(positions, triangles, sealed) -> RayCaster`` (:class:`.rays.ray_setup.BVHCaster`, or the
         Blender side's Geometry Nodes caster)
     occluders : list (one per mesh) of lists of ``(world positions (v, 3), triangles (t, 3))``, optional
-        The scene geometry within each mesh's ray reach (:func:`.rays.world_reach`), read once by the caller;
+        The scene geometry within each mesh's ray reach (:func:`.rays.ray_setup.world_reach`), read once by the caller;
         used when the settings ask for scene occluders.
     free_casters : callable ``(casters) -> None``, optional
         Frees several casters at once (the Blender side removes all their datablocks in one call); by

@@ -18,7 +18,7 @@ import dataclasses
 from dataclasses import dataclass, field
 
 from .errors import SeamlessAOError
-from .packings import BY_ID as PACKINGS_BY_ID, PACKINGS
+from .export.packings import BY_ID as PACKINGS_BY_ID, PACKINGS
 
 
 def _setting(default, label, description, **extra):
@@ -42,7 +42,7 @@ SIZE_MODE_ITEMS = (
 )
 
 #: Pilot rays of each texel when a caster that bakes whole texels (Cycles) takes the rest: from inside a
-#: closed piece every ray meets its back faces, so a few tell the buried texels (core/ao.py's ``buried``).
+#: closed piece every ray meets its back faces, so a few tell the buried texels (core/rays/ao.py's ``buried``).
 BULK_PILOT_RAYS = 4
 
 #: What the Cycles caster cannot do: (setting, the value it needs, the sentence that says so, the value in

@@ -1,5 +1,5 @@
 """The Blender side of a bake's rays: a ray caster on Blender's Geometry Nodes Raycast node (multi-threaded),
-a :class:`~...core.rays.RayCaster`; the Cycles caster, the same plus Cycles' AO
+a :class:`~...core.rays.ray_setup.RayCaster`; the Cycles caster, the same plus Cycles' AO
 bake at texels (:mod:`.cycles_caster`); and :func:`caster_maker`, which picks one of them or core's
 ``BVHCaster`` for the settings.
 
@@ -10,7 +10,7 @@ attributes, read back with ``foreach_get``.  Everything lives in a temporary sce
 context override, so the user's scenes, objects and undo history are never
 touched; :meth:`NodesCaster.free` removes every datablock it made.
 
-Same interface as :class:`...core.rays.BVHCaster`; same BVH underneath (Blender's),
+Same interface as :class:`...core.rays.ray_setup.BVHCaster`; same BVH underneath (Blender's),
 but the node evaluates the rays on all cores.
 """
 
@@ -18,7 +18,7 @@ import bpy
 import numpy as np
 
 from ...core.keys import TEMP_PREFIX
-from ...core.rays import BVHCaster, RayCaster
+from ...core.rays.ray_setup import BVHCaster, RayCaster
 from ...shaders.raycast_nodes import raycast_group
 from .cycles_caster import CyclesAmbientOcclusion
 from .mesh_data import mesh_from_triangles
@@ -31,7 +31,7 @@ class NodesCaster(RayCaster):
     ----------
     positions : (v, 3) float, ray space
     triangles : (t, 3) int
-    sealed : (t,) bool, optional, triangles of closed pieces (core/sealed.py; none if not given)
+    sealed : (t,) bool, optional, triangles of closed pieces (core/mesh/sealed.py; none if not given)
     """
 
     name = "GEOMETRY_NODES"
@@ -92,11 +92,11 @@ class NodesCaster(RayCaster):
 
 class CyclesCaster(CyclesAmbientOcclusion, NodesCaster):
     """The Cycles caster: :class:`NodesCaster` whose ``ambient_occlusion`` bakes Cycles' AO at given texels
-    (:mod:`.cycles_caster`), which :class:`...core.job.AOJob` hands all but the pilot rays to."""
+    (:mod:`.cycles_caster`), which :class:`...core.rays.job.AOJob` hands all but the pilot rays to."""
 
     name = "CYCLES"
     bakes_whole_texels = True
-    #: What cast every ray when no part had enough rays left after the pilot for Cycles (core/job.py).
+    #: What cast every ray when no part had enough rays left after the pilot for Cycles (core/rays/job.py).
     pilot_name = NodesCaster.name
 
     def __init__(self, positions, triangles, sealed=None):

@@ -7,7 +7,7 @@ import numpy as np
 
 from ...core.errors import SeamlessAOError
 from ...core.keys import AO_LAYERS, MAX_UV_MAPS
-from ...core.mesh import flattened
+from ...core.mesh.triangle_mesh import flattened
 from .mesh_data import loop_vertices, vertex_positions
 
 

@@ -11,7 +11,7 @@ Cycles' AO of it into a float image in the caster's temporary scene, where
 the occluder is the same mesh the Raycast node sees.  Each texel's pixel is
 its open fraction.
 
-:class:`...core.job.AOJob` still casts each texel's first few rays with the
+:class:`...core.rays.job.AOJob` still casts each texel's first few rays with the
 Raycast node (they say which texels are buried inside another piece, which
 Cycles' AO cannot say), and the rays that find the crease points; it hands
 the remaining rays, and the AO at the crease points, to Cycles.  The
@@ -24,7 +24,7 @@ user's scenes and render settings are not touched.
 import bpy
 import numpy as np
 
-from ...core.ao import ray_origins
+from ...core.rays.ao import ray_origins
 from ...core.errors import SeamlessAOError
 from ...core.keys import TEMP_PREFIX
 from .cycles_device import cycles_device
@@ -84,8 +84,8 @@ class CyclesAmbientOcclusion:
     def ambient_occlusion(self, points, normals, geometric, samples, params):
         """Cycles' AO of ``samples`` rays at each point (k, 3), ray space: the open fraction (k,) in [0, 1].
 
-        The ray origin is the one :func:`...core.ao.occlusion_sums` casts from
-        (:func:`...core.ao.ray_origins`).  The maximum distance is ``params.max_distance``.
+        The ray origin is the one :func:`...core.rays.ao.occlusion_sums` casts from
+        (:func:`...core.rays.ao.ray_origins`).  The maximum distance is ``params.max_distance``.
         """
         count = len(points)
         if not count:

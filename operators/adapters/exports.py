@@ -16,11 +16,11 @@ import numpy as np
 
 from ...core.errors import SeamlessAOError
 from ...core.keys import AO_LAYERS, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_KEY, GLTF_GROUP, IMAGE_KEY, OURS_KEY
-from ...core.mesh import TriangleMesh
-from ...core.packings import BY_ID
+from ...core.mesh.triangle_mesh import TriangleMesh
+from ...core.export.packings import BY_ID
 from ...core.settings import ExportSettings
-from ...core.transfer import corner_values, resample_to_uv, resampled_png, vertex_average
-from ...core.uv_fitness import uv_fitness
+from ...core.export.transfer import corner_values, resample_to_uv, resampled_png, vertex_average
+from ...core.export.uv_fitness import uv_fitness
 from ...shaders import material as material_nodes
 from ...shaders.gltf_nodes import hook_gltf_occlusion
 from . import stack
@@ -81,7 +81,7 @@ def image_values(image):
 
 
 def uv_map_fitness(ob, name):
-    """:class:`~...core.uv_fitness.UVFitness` of ``ob``'s UV map ``name`` as it renders."""
+    """:class:`~...core.export.uv_fitness.UVFitness` of ``ob``'s UV map ``name`` as it renders."""
     with render_evaluation([ob]):
         with evaluated_mesh(ob, bpy.context.evaluated_depsgraph_get()) as evaluated:
             mesh, loops = read_triangles(evaluated)
@@ -184,7 +184,7 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
         Apply each material's Strength and Interreflection (the ``Seamless AO``
         node's inputs), so the texture shows what the material shows.
     packing : {"GLTF", "GREY", "ORM", "UNITY_MASK"}
-        Which channels carry the AO (:data:`~...core.packings.PACKINGS`); ORM
+        Which channels carry the AO (:data:`~...core.export.packings.PACKINGS`); ORM
         and the Unity mask map carry each material's roughness and metallic
         too, from its metallic-roughness texture where one is read through
         the same UV map (:func:`material_values`).
@@ -193,7 +193,7 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
         the glTF exporter embeds as it is.
     unfit_uv_map : bool
         Resample even onto a UV map that cannot hold the AO
-        (:func:`~...core.uv_fitness.uv_fitness`); by default that is refused
+        (:func:`~...core.export.uv_fitness.uv_fitness`); by default that is refused
         with what is wrong with it.
 
     Returns

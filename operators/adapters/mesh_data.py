@@ -14,8 +14,8 @@ import bpy
 import numpy as np
 
 from ...core.keys import STACK_MODIFIER
-from ...core.mesh import MeshArrays, boxes_near
-from ...core.rays import world_winding
+from ...core.mesh.triangle_mesh import MeshArrays, boxes_near
+from ...core.rays.ray_setup import world_winding
 
 #: Modifiers whose viewport and render levels may differ: (viewport property, render property).
 LEVELS = {"SUBSURF": ("levels", "render_levels"), "MULTIRES": ("levels", "render_levels")}
@@ -111,7 +111,7 @@ def triangle_polygons(mesh, count):
 
 
 def read_mesh_arrays(mesh):
-    """A ``bpy.types.Mesh`` as :class:`~..core.mesh.MeshArrays`, in object space: one ``foreach_get`` per
+    """A ``bpy.types.Mesh`` as :class:`~..core.mesh.triangle_mesh.MeshArrays`, in object space: one ``foreach_get`` per
     attribute, nothing worked out from them yet.
 
     Returns
@@ -139,7 +139,7 @@ def read_mesh_arrays(mesh):
 
 
 def read_triangles(mesh):
-    """A :class:`~..core.mesh.TriangleMesh` of a ``bpy.types.Mesh`` (:func:`read_mesh_arrays`) and the loop
+    """A :class:`~..core.mesh.triangle_mesh.TriangleMesh` of a ``bpy.types.Mesh`` (:func:`read_mesh_arrays`) and the loop
     of each triangle corner."""
     arrays, loops = read_mesh_arrays(mesh)
     return arrays.mesh(), loops

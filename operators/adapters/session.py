@@ -21,12 +21,12 @@ import bpy
 import numpy as np
 
 from ...core.errors import BakeCancelled, SeamlessAOError
-from ...core.handoff import outcome_numbers
+from ...core.other_processes.handoff import outcome_numbers
 from ...core.keys import IMAGE_KEY
 from ...core.pipeline import BakePipeline
-from ...core.rays import world_reach
+from ...core.rays.ray_setup import world_reach
 from ...core.settings import BakeSettings, caster_words
-from ...core.viewport_uv import stands_off
+from ...core.atlas.viewport_uv import stands_off
 from ..background.client import BackgroundBake
 from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
@@ -180,7 +180,7 @@ class BakeSession:
 
     def _read_meshes(self):
         """The baked objects and, if asked, the scene geometry near each, all as they render; returns the
-        meshes (:class:`~...core.mesh.MeshArrays`: a background bake works out the rest in its own process),
+        meshes (:class:`~...core.mesh.triangle_mesh.MeshArrays`: a background bake works out the rest in its own process),
         the :class:`BakedObject` of each and each one's occluders (world geometry)."""
         meshes, baked, occluders = [], [], []
         users = {}

@@ -10,7 +10,7 @@ evaluated mesh by corner index, where the materials' UV Map nodes read them.
 Where the viewport's levels differ from the render's (Blender's default
 Subdivision: 1 in the viewport, 2 at render), a second helper holds the
 viewport surface's corners as the bake saw them, with UV maps that read each
-of its faces through one baked chart (:mod:`...core.viewport_uv`); the
+of its faces through one baked chart (:mod:`...core.atlas.viewport_uv`); the
 modifier's ``Viewport`` input points at it.  The modifier's node group is
 built in :mod:`...shaders.stack_nodes`, with every other node tree.
 

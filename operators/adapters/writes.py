@@ -14,7 +14,7 @@ import numpy as np
 
 from ...core.keys import (AO_LAYERS, GROUP_VERSION, HELPER_KEY, IMAGE_KEY, MATERIAL_KEY, OURS_KEY, SAVE_COPY,
                           STACK_MODIFIER, VERSION_KEY)
-from ...core.png import encode_png
+from ...core.export.png import encode_png
 from ...shaders import material as material_nodes
 from ...shaders.node_group import find_node_group, node_group as build_node_group
 from ...shaders.stack_nodes import stack_group
@@ -151,7 +151,7 @@ class Transaction:
         loops : (t, 3) int, the corner of each triangle corner
         axis_uv : three (t, 3 corners, 2), the triangles' UVs in AO_X, AO_Y and AO_Z
         viewport : mesh_data.EvaluatedCorners of the surface the viewport shows, where it is not ``corners``; or None
-        viewport_uv : (3 layers, its corners, 2), its UVs (:func:`...core.viewport_uv.surface_uv`)
+        viewport_uv : (3 layers, its corners, 2), its UVs (:func:`...core.atlas.viewport_uv.surface_uv`)
         """
         per_corner = corner_uv(len(corners.corner_vert), loops, axis_uv)
         helpers = [self._helper(stack.helper_name(ob), corners, per_corner), None]

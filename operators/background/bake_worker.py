@@ -1,6 +1,6 @@
 """The background half of a bake from Blender's window: ``launch.py bake-worker FOLDER``.
 
-The window's Blender reads the meshes and writes them into ``FOLDER`` (:mod:`...core.handoff`), starts
+The window's Blender reads the meshes and writes them into ``FOLDER`` (:mod:`...core.other_processes.handoff`), starts
 this process (:mod:`.client`) and stays free for the user while it runs core's pipeline with the same
 casters a bake in the window would use, writing its progress, then its outcome or why it failed.
 Nothing here touches the user's data: the window's Blender writes the outcome.
@@ -9,7 +9,7 @@ Nothing here touches the user's data: the window's Blender writes the outcome.
 import traceback
 
 from ...core.errors import SeamlessAOError
-from ...core.handoff import read_job, write_failure, write_outcome, write_progress
+from ...core.other_processes.handoff import read_job, write_failure, write_outcome, write_progress
 from ...core.pipeline import BakePipeline
 from ..adapters.casters import caster_maker, free_casters
 

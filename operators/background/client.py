@@ -3,7 +3,7 @@
     bake = BackgroundBake(meshes, matrices, occluders, settings)    # writes the job, starts the process
     while (state := bake.poll()) is not None:                       # (fraction, message); cheap, never blocks
         ...
-    outcome = bake.outcome()                                        # core.handoff.HandedBack
+    outcome = bake.outcome()                                        # core.other_processes.handoff.HandedBack
     bake.close()                                                    # ends the process, removes the folder
 
 The process is :mod:`.bake_worker` in a background Blender (:mod:`..adapters.processes`), so the pipeline's
@@ -16,7 +16,7 @@ import subprocess
 import tempfile
 
 from ...core.errors import SeamlessAOError
-from ...core.handoff import outcome_written, read_failure, read_outcome, read_progress, write_job
+from ...core.other_processes.handoff import outcome_written, read_failure, read_outcome, read_progress, write_job
 from ..adapters.processes import process_command, process_environment
 
 #: The lines of the process's log printed to the console when it fails through a fault of ours.
@@ -70,7 +70,7 @@ class BackgroundBake:
         raise RuntimeError(failure[0] if failure else "the bake process stopped with exit code {}".format(code))
 
     def outcome(self):
-        """The :class:`~...core.handoff.HandedBack` outcome (after :meth:`poll` returned None)."""
+        """The :class:`~...core.other_processes.handoff.HandedBack` outcome (after :meth:`poll` returned None)."""
         return read_outcome(self.folder)
 
     def close(self):

@@ -5,7 +5,7 @@ The standard library only, and nothing of this package: a Dask worker runs
 package being importable there.  The local batch (:mod:`.runner`) uses the
 same command, job file and record reading for its own worker processes.
 
-A record is an :class:`~...core.batch_plan.AssetRecord` as a dict.
+A record is an :class:`~...core.other_processes.batch_plan.AssetRecord` as a dict.
 """
 
 import glob
@@ -82,7 +82,7 @@ def read_record(job, returncode, log_path):
 
 
 def partial_outputs(output):
-    """What stopped workers left half-written for ``output`` (``NAME.partPID.EXT``, see core/batch_plan.py)."""
+    """What stopped workers left half-written for ``output`` (``NAME.partPID.EXT``, see core/other_processes/batch_plan.py)."""
     extension = os.path.splitext(str(output))[1]
     return glob.glob(glob.escape(str(output)) + ".part[0-9]*" + glob.escape(extension))
 

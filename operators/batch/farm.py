@@ -18,7 +18,7 @@ batch does.
 import os
 import uuid
 
-from ...core.batch_plan import AssetRecord
+from ...core.other_processes.batch_plan import AssetRecord
 from ...core.errors import SeamlessAOError
 from . import asset_process
 from .asset_process import failed_record, partial_outputs
@@ -46,7 +46,7 @@ def distributed_module():
 
 def run_on_cluster(jobs, scheduler, timeout=None):
     """Bake ``jobs`` (worker job dicts, one per asset) on the Dask cluster at ``scheduler``; yield each
-    asset's :class:`~...core.batch_plan.AssetRecord` as its task ends, in the order they end.
+    asset's :class:`~...core.other_processes.batch_plan.AssetRecord` as its task ends, in the order they end.
 
     A task whose workers kept dying (Dask's ``allowed-failures``) or that failed outside the bake is
     reported failed with a sentence, and the others go on.  When the last record is out, what dead workers

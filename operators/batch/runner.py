@@ -18,7 +18,7 @@ import sys
 import tempfile
 import time
 
-from ...core.batch_plan import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
+from ...core.other_processes.batch_plan import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
                             remove_partial_output, settings_digest, write_stamp)
 from ...core.errors import SeamlessAOError
 from ...core.settings import BakeSettings, GltfSettings, gltf_fields
@@ -79,7 +79,7 @@ def batch(paths, output_dir=None, jobs=None, pattern="*", force=False, per_objec
         ``color_attribute``, ``texture_size``, ``texture_padding``,
         ``texture_packing``, ``texture_bit_depth``; docs/settings.md): where
         ``uv_policy`` is ``auto``, the record's warnings say why an object's own
-        UV map could not hold the AO (:func:`~...core.uv_fitness.uv_fitness`).
+        UV map could not hold the AO (:func:`~...core.export.uv_fitness.uv_fitness`).
 
     Raises
     ------

@@ -25,7 +25,7 @@ import addon_utils
 import bpy
 import numpy as np
 
-from ...core.batch_plan import AssetRecord, partial_output
+from ...core.other_processes.batch_plan import AssetRecord, partial_output
 from ...core.errors import SeamlessAOError
 from ...core.keys import AO_LAYERS, AO_UV, COLOR_ATTRIBUTE, GLTF_NODES
 from ...core.settings import RESAMPLE_FIELDS, BakeSettings, GltfSettings, gltf_fields

@@ -18,7 +18,7 @@ import time
 import bpy
 import numpy as np
 
-from ...core.png import encode_png
+from ...core.export.png import encode_png
 from ..adapters.exports import image_values
 from ..adapters.preview import set_preview
 from ..adapters.session import bake

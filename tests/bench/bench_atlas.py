@@ -17,8 +17,8 @@ from common import finish, markdown_table, say, Stopwatch
 
 import real_assets  # noqa: E402
 from bench_clustering import bumpy_sphere  # noqa: E402
-from seamless_ao.core import packing  # noqa: E402
-from seamless_ao.core.mesh import TriangleMesh  # noqa: E402
+from seamless_ao.core.atlas import packing  # noqa: E402
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh  # noqa: E402
 from seamless_ao.core.layout import build_layout  # noqa: E402
 
 #: Issue 13's targets for charts + pack + rasterise (seconds), by triangle count.

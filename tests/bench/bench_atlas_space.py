@@ -8,7 +8,7 @@ and interior, read as the bake operator reads them, laid out at the bake's
 default settings. Every texel of the image is counted once: covered (its
 centre lies in a chart triangle), near (bilinear filtering at a chart's rim
 reads it), a padding ring around a chart, or empty. Covered, near and padding
-texels are also counted by the kind of chart they belong to (core/packing.py:
+texels are also counted by the kind of chart they belong to (core/atlas/packing.py:
 a point chart is one texel, a small chart at most SMALL_TEXELS across its
 narrow side is shelf-packed with its ring, a large one goes to xatlas with
 padding). Atlas use is the report's own figure: the charts' area over the
@@ -24,7 +24,7 @@ from common import finish, markdown_table, say
 
 from bench_fixed_cost import scene
 from layout_checks import chart_kinds, least_gap
-from seamless_ao.core import raster
+from seamless_ao.core.atlas import raster
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.settings import BakeSettings
 from seamless_ao.operators.adapters.mesh_data import read_triangles

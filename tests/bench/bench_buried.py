@@ -3,7 +3,7 @@
     .venv/5.0/bin/python tests/bench/bench_buried.py [--meshes suzanne dense interior cornell]
 
 Bakes each mesh twice with the same rays: as the add-on does, and with no
-texel taken for buried (``core.ao.buried`` answering "none", which is the
+texel taken for buried (``core.rays.ao.buried`` answering "none", which is the
 bake as it was before buried texels: the same rays, the same denoiser, no
 crease pass).  Each is evaluated as the shader shows it against the plain
 reference at the report's 2000 visible points (``report.py``, cached in
@@ -26,7 +26,7 @@ import bpy
 import meshes
 from accuracy import errors, reference_ao, shown_seamless, surface_samples
 from blender_scenes import add_object, mesh_from_arrays
-from seamless_ao.core import job
+from seamless_ao.core.rays import job
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 CACHE = pathlib.Path(__file__).resolve().parent.parent.parent / "out" / "bench" / "cache"

@@ -12,9 +12,9 @@ import numpy as np
 
 from common import finish, markdown_table, say, Stopwatch
 
-from seamless_ao.core.adjacency import face_adjacency
-from seamless_ao.core.clustering import cluster_faces
-from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.mesh.adjacency import face_adjacency
+from seamless_ao.core.charts.clustering import cluster_faces
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
 
 
 def bumpy_sphere(triangles):

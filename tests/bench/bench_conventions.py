@@ -29,10 +29,10 @@ import numpy as np
 from accuracy import reference_ao, shown_single_uv, surface_samples  # noqa: E402
 from blender_scenes import suzanne  # noqa: E402
 from cycles_baseline import UV_NAME, cycles_ao_bake  # noqa: E402
-from seamless_ao.core import ao as ao_module  # noqa: E402
-from seamless_ao.core.sampling import cone_directions, tangent_frames  # noqa: E402
+from seamless_ao.core.rays import ao as ao_module  # noqa: E402
+from seamless_ao.core.rays.sampling import cone_directions, tangent_frames  # noqa: E402
 from seamless_ao.core.settings import BakeSettings  # noqa: E402
-from seamless_ao.core.rays import ray_part  # noqa: E402
+from seamless_ao.core.rays.ray_setup import ray_part  # noqa: E402
 from seamless_ao.operators.adapters.casters import caster_maker  # noqa: E402
 from seamless_ao.operators.adapters.mesh_data import read_triangles  # noqa: E402
 

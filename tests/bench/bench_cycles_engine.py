@@ -26,10 +26,10 @@ from common import finish, markdown_table, say
 
 from bench_fixed_cost import scene
 from plain_reference import hidden, plain_ao
-from seamless_ao.core.extent import mesh_size
+from seamless_ao.core.mesh.extent import mesh_size
 from seamless_ao.core.pipeline import bake_arrays
-from seamless_ao.core.raster import COVERED, texel_geometry
-from seamless_ao.core.rays import ORIGIN_OFFSET, AOParams
+from seamless_ao.core.atlas.raster import COVERED, texel_geometry
+from seamless_ao.core.rays.ray_setup import ORIGIN_OFFSET, AOParams
 from seamless_ao.operators.adapters.casters import NodesCaster
 from seamless_ao.operators.adapters.casters import CyclesCaster
 from seamless_ao.operators.adapters.mesh_data import read_triangles
@@ -78,7 +78,7 @@ def main():
             if reference is None:
                 # the texels are the same at every ray count (the layout does not depend on it)
                 # covered texels at points a viewer can see: a texel whose own point lies inside another
-                # piece is shaded at the crease instead (core/job.py), which the reference cannot know
+                # piece is shaded at the crease instead (core/rays/job.py), which the reference cannot know
                 judged = np.flatnonzero((texels.kind[cast] == COVERED) & ~result.buried[cast])
                 judged = np.random.default_rng(7).choice(judged, min(2 * args.points, len(judged)), replace=False)
                 triangle = layout.atlas.member_triangle[texels.member[cast[judged]]]

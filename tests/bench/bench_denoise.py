@@ -3,7 +3,7 @@
     .venv/5.0/bin/python tests/bench/bench_denoise.py [--meshes suzanne dense scan interior]
         [--settings 256x1 256x2 256x4 256x8 512x1 512x2 512x4 512x8 1024x2]
 
-The denoiser (core/denoise.py) weighs a texel's neighbours by a Gaussian of
+The denoiser (core/image/denoise.py) weighs a texel's neighbours by a Gaussian of
 their 3D distance.  It was one texel wide at every ray count; it now widens
 as the rays per texel get fewer (``space_sigma_for``: 2.8 texels at one ray,
 1.4 at four, one texel from eight on), in a window of at most three texels
@@ -27,7 +27,7 @@ import bpy
 
 from accuracy import errors, shown_seamless
 from report import bench_arguments, fresh_with_reference, seamless_bake
-from seamless_ao.core import denoise as denoise_module
+from seamless_ao.core.image import denoise as denoise_module
 from seamless_ao.core import pipeline
 
 #: "<image size>x<rays per texel>"; from 8 rays on both filters are the same.

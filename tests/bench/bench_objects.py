@@ -26,7 +26,7 @@ import numpy as np
 
 import meshes
 import package
-from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
 from seamless_ao.core.layout import build_layout
 
 

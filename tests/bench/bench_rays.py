@@ -23,10 +23,10 @@ import bpy
 
 import package
 from blender_scenes import suzanne
-from seamless_ao.core.ao import occlusion_sums
-from seamless_ao.core.rays import AOParams, BVHCaster, ray_space
+from seamless_ao.core.rays.ao import occlusion_sums
+from seamless_ao.core.rays.ray_setup import AOParams, BVHCaster, ray_space
 from seamless_ao.core.layout import build_layout
-from seamless_ao.core.raster import texel_geometry
+from seamless_ao.core.atlas.raster import texel_geometry
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 from seamless_ao.operators.adapters.casters import NodesCaster
 

@@ -7,7 +7,7 @@ covered and near texels), but the denoiser blends the ring into the chart's
 rim texels and mip-maps read it. Each mesh (the generated long thin asset
 and the interior of tests/support/real_assets.py) is baked through the API
 at each setting with the ring's share of rays whole, halved once or twice
-(core/targets.py RING_RAY_HALVINGS; never below MIN_SHARED_RAYS) and with
+(core/rays/targets.py RING_RAY_HALVINGS; never below MIN_SHARED_RAYS) and with
 no ring rays at all (the ring filled from its neighbours, as farther rings
 are), over ``--seeds`` seeds. Error: RMSE and 99th percentile of what the
 node group shows at 1,000 visible points against the plain 4096-ray
@@ -30,7 +30,8 @@ import package
 from accuracy import errors, shown_seamless
 from bench_assets import fresh_object
 from plain_reference import reference_at_visible_points
-from seamless_ao.core import pipeline, targets
+from seamless_ao.core import pipeline
+from seamless_ao.core.rays import targets
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 #: (mesh, image size, rays) baked.

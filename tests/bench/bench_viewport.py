@@ -10,7 +10,7 @@ how far apart those two references are: no AO read from the render's surface can
 viewport's own than that. The standoff column says how far the viewport surface's vertices lie from the
 render's surface (``core/viewport_uv.stands_off`` bakes a surface standing off by more than 0.1% too).
 At viewport level 1 the viewport's surface reads the render's charts through UV maps of its own
-(``core/viewport_uv.py``); a cage (level 0) stands off the render's surface, and is baked too, in the
+(``core/atlas/viewport_uv.py``); a cage (level 0) stands off the render's surface, and is baked too, in the
 same image. The last columns: what the render shows on its own surface against its
 plain reference, in that bake and in a bake of the same object with the viewport at the render's level
 (nothing more to bake), at ``--points`` visible points of the render's surface.
@@ -25,7 +25,7 @@ import numpy as np
 
 from accuracy import errors, reference_ao
 from package import seamless_ao
-from seamless_ao.core.viewport_uv import NearestTriangle
+from seamless_ao.core.atlas.viewport_uv import NearestTriangle
 from viewport_checks import evaluated_surface, nearest_on, shown_on_the_evaluated_surface
 
 LEVELS = [(1, 2), (0, 3)]

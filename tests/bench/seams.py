@@ -22,7 +22,7 @@ def seam_pairs(mesh, loops, uv_layers, rng, limit=SEAM_EDGES, step=1e-4):
     An edge is a seam when the two triangles sharing it map it to different
     UVs in any of ``uv_layers`` (each (loops, 2)).
     """
-    from seamless_ao.core.adjacency import face_adjacency
+    from seamless_ao.core.mesh.adjacency import face_adjacency
     topology = face_adjacency(mesh)
     welded = topology.welded_triangles
     sides = []

@@ -12,7 +12,7 @@ import pytest
 from accuracy import P99_LIMIT, RMSE_LIMIT, errors, reference_ao, shown_seamless, surface_samples
 from blender_scenes import sphere_over_plane, suzanne
 from package import seamless_ao
-from seamless_ao.core.shown import bilinear, blended_ao
+from seamless_ao.core.image.shown import bilinear, blended_ao
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 from blender_checks import image_array, uv_layer_array
 

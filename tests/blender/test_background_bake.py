@@ -10,9 +10,9 @@ import pytest
 from package import seamless_ao
 
 from seamless_ao.core.errors import SeamlessAOError
-from seamless_ao.core.handoff import read_job, write_job
+from seamless_ao.core.other_processes.handoff import read_job, write_job
 from seamless_ao.operators.adapters.stack import viewport_helper_of
-from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
 from seamless_ao.core.settings import BakeSettings
 from seamless_ao.operators.adapters.session import BakeSession
 

@@ -65,7 +65,7 @@ def imported_occlusion(path):
         mesh = ob.data
         uv = np.empty(len(mesh.loops) * 2, dtype=np.float32)
         mesh.uv_layers[uv_name].data.foreach_get("uv", uv)
-        through_texture = seamless_ao.core.shown.bilinear(image, uv.reshape(-1, 2).astype(np.float64))
+        through_texture = seamless_ao.core.image.shown.bilinear(image, uv.reshape(-1, 2).astype(np.float64))
         colour = mesh.color_attributes[0]
         colours = np.empty(len(colour.data) * 4, dtype=np.float32)
         colour.data.foreach_get("color", colours)

@@ -154,7 +154,7 @@ def assert_render_matches_blend(rendered, expected, min_pixels):
 
 @pytest.mark.parametrize("strength, interreflection", [(1.0, 0.0), (0.6, 0.5)])
 def test_cycles_render_matches_numpy_blend(monkey, strength, interreflection):
-    """The shader shows what core/shown.py computes, with the node's defaults and with other inputs
+    """The shader shows what core/image/shown.py computes, with the node's defaults and with other inputs
     (what the exports apply, issue 16 item 5)."""
     rendered, expected = rendered_and_blended(monkey, strength=strength, interreflection=interreflection)
     assert_render_matches_blend(rendered, expected, min_pixels=300)

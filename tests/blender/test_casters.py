@@ -4,7 +4,7 @@ core's BVHTree caster."""
 import numpy as np
 
 from blender_scenes import suzanne
-from seamless_ao.core.rays import BVHCaster
+from seamless_ao.core.rays.ray_setup import BVHCaster
 from seamless_ao.operators.adapters.casters import NodesCaster
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 

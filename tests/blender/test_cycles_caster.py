@@ -7,7 +7,7 @@ import pytest
 from accuracy import errors, reference_ao, shown_seamless, surface_samples
 from blender_checks import image_array
 from blender_scenes import suzanne
-from seamless_ao.core.rays import AOParams
+from seamless_ao.core.rays.ray_setup import AOParams
 from seamless_ao.operators.adapters.casters import CyclesCaster
 
 
@@ -65,7 +65,7 @@ def test_a_cycles_bake_shows_the_geometry_nodes_bake_and_leaves_nothing_behind(a
     nodes, cycles = images["GEOMETRY_NODES"], images["CYCLES"]
     shown = (nodes > 0) | (cycles > 0)
     assert shown.sum() > 10000
-    # Cycles cast the rays after the pilot (both parts have over core/job.py's BULK_LEAST_RAYS of them):
+    # Cycles cast the rays after the pilot (both parts have over core/rays/job.py's BULK_LEAST_RAYS of them):
     # with the node's rays alone the two images would be the same, ray for ray
     assert (cycles != nodes).mean() > 0.5
     gap = cycles[shown] - nodes[shown]
@@ -83,7 +83,7 @@ def test_a_cancelled_cycles_bake_leaves_nothing_behind(addon, fresh_scene):
     the object has none of the bake's UV maps."""
     import bpy
 
-    from seamless_ao.core import job
+    from seamless_ao.core.rays import job
     from seamless_ao.core.errors import BakeCancelled
     from seamless_ao.core.keys import TEMP_PREFIX
 
@@ -134,9 +134,9 @@ def test_a_cycles_bake_is_as_near_the_plain_reference_as_a_geometry_nodes_bake(a
 def test_the_automatic_caster_takes_cycles_where_it_can_and_the_node_where_it_cannot(addon, fresh_scene):
     """Ray Caster Automatic: Cycles at classic AO with rays beyond the pilot; with a falloff (which Cycles'
     AO cannot follow) or no rays beyond the pilot it bakes with the node, and refuses neither.  With too few
-    rays after the pilot for Cycles to pay off (core/job.py's BULK_LEAST_RAYS) the node casts them all, and
+    rays after the pilot for Cycles to pay off (core/rays/job.py's BULK_LEAST_RAYS) the node casts them all, and
     the report says so."""
-    from seamless_ao.core.job import BULK_LEAST_RAYS
+    from seamless_ao.core.rays.job import BULK_LEAST_RAYS
     from seamless_ao.core.settings import BULK_PILOT_RAYS
     from seamless_ao.operators.adapters.casters import NodesCaster
 

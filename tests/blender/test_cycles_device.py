@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from seamless_ao.core.errors import SeamlessAOError
-from seamless_ao.core.rays import AOParams
+from seamless_ao.core.rays.ray_setup import AOParams
 from seamless_ao.operators.adapters import cycles_caster, cycles_device
 from seamless_ao.operators.adapters.casters import CyclesCaster
 from seamless_ao.operators.adapters.processes import process_environment

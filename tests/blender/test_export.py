@@ -10,8 +10,8 @@ from accuracy import surface_samples
 from blender_checks import image_array, uv_layer_array
 from blender_scenes import suzanne
 from package import run_command, seamless_ao
-from seamless_ao.core.shown import bilinear
-from seamless_ao.core.transfer import shown_at
+from seamless_ao.core.image.shown import bilinear
+from seamless_ao.core.export.transfer import shown_at
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 from seamless_ao.shaders.material import enable_nodes
 
@@ -58,7 +58,7 @@ def test_resampled_texture_matches_the_blend(baked):
 
 
 def test_resampled_texture_has_no_empty_texel_in_the_padding(baked):
-    from seamless_ao.core.transfer import resample_to_uv
+    from seamless_ao.core.export.transfer import resample_to_uv
     ob, mesh, loops, ao, layer_uv = baked
     target = uv_layer_array(ob.data, "UVMap")[loops]
     values, coverage = resample_to_uv(ao, layer_uv, mesh.corner_normals, target, 256, padding=6)

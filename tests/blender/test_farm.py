@@ -132,7 +132,7 @@ def test_a_batch_stopped_halfway_bakes_only_what_is_missing_when_started_again(a
     out = tmp_path / "out"
     batch = subprocess.Popen(batch_command(assets, out, "--scheduler", address), stdout=subprocess.DEVNULL,
                              stderr=subprocess.DEVNULL)
-    stamps = seamless_ao.core.batch_plan.read_stamps
+    stamps = seamless_ao.core.other_processes.batch_plan.read_stamps
     wait_for(lambda: len(stamps(out)) >= 2, "two assets finished")
     batch.send_signal(signal.SIGKILL)                 # stopped as a crash or a pulled plug stops it
     batch.wait(30)

@@ -254,9 +254,9 @@ def test_texels_of_a_transformed_object_get_the_ao_of_the_object_in_the_scene(na
     as the object stands in the scene (world space, normals as Blender shows them): the bake's own ray
     setup (operators) at 200 texel points, against the plain reference on the transformed mesh."""
     from plain_reference import plain_ao
-    from seamless_ao.core.ao import occlusion_sums
-    from seamless_ao.core.raster import texel_geometry
-    from seamless_ao.core.rays import ray_part
+    from seamless_ao.core.rays.ao import occlusion_sums
+    from seamless_ao.core.atlas.raster import texel_geometry
+    from seamless_ao.core.rays.ray_setup import ray_part
     from seamless_ao.core.settings import BakeSettings
     from seamless_ao.operators.adapters.casters import caster_maker
 

@@ -13,7 +13,7 @@ from accuracy import errors, reference_ao, surface_samples
 from blender_checks import image_array, uv_layer_array
 from package import seamless_ao
 from plain_reference import plain_ao, visible_points
-from seamless_ao.core.shown import blended_ao
+from seamless_ao.core.image.shown import blended_ao
 from seamless_ao.core.keys import IMAGE_KEY, STACK_MODIFIER, STALE_ATTRIBUTE
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 from viewport_checks import shown_on_the_evaluated_surface
@@ -195,7 +195,7 @@ def test_no_seam_along_the_mirror_plane(fresh_scene, addon):
 def test_the_viewport_shows_the_ao_whatever_its_subdivision_level(viewport, render, fresh_scene, addon):
     """Issue 51: Blender's default Subdivision is 1 in the viewport and 2 at render. The render's surface is
     baked; at viewport level 1 the viewport's surface (other faces, its vertices on the render's surface)
-    reads the render's charts through UV maps of its own (core/viewport_uv.py); a cage (level 0) stands off
+    reads the render's charts through UV maps of its own (core/atlas/viewport_uv.py); a cage (level 0) stands off
     the render's surface (its own AO differs from the smooth surface's by RMSE 0.09 even at the nearest
     points), so it is baked too, in the same image. Either way what the viewport shows is held to the plain
     reference on the viewport's own surface (the issue's RMSE 0.03), and what the render shows to the plain

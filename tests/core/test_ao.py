@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from seamless_ao.core.ao import MIN_SIDE_TRIPLES, noise_estimate, occlusion_sums
-from seamless_ao.core.job import point_ao
-from seamless_ao.core.rays import AOParams, BVHCaster
-from seamless_ao.core.sampling import cone_directions, random_samples, sobol_2d, texel_samples
+from seamless_ao.core.rays.ao import MIN_SIDE_TRIPLES, noise_estimate, occlusion_sums
+from seamless_ao.core.rays.job import point_ao
+from seamless_ao.core.rays.ray_setup import AOParams, BVHCaster
+from seamless_ao.core.rays.sampling import cone_directions, random_samples, sobol_2d, texel_samples
 
 BIG = 1000.0
 

@@ -7,12 +7,12 @@ import pytest
 
 import meshes
 from layout_checks import chart_kinds, check_layers_do_not_overlap, check_lookups, check_texels_finite, least_gap
-from seamless_ao.core.atlas import _largest_member
+from seamless_ao.core.atlas.chart_atlas import _largest_member
 from seamless_ao.core.errors import SeamlessAOError
-from seamless_ao.core.mesh import TriangleMesh
-from seamless_ao.core.packing import xatlas_padding
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
+from seamless_ao.core.atlas.packing import xatlas_padding
 from seamless_ao.core.layout import build_layout
-from seamless_ao.core.raster import COVERED
+from seamless_ao.core.atlas.raster import COVERED
 
 
 @pytest.mark.parametrize("make", [

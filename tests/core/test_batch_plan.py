@@ -7,7 +7,7 @@ import pytest
 
 from package import seamless_ao
 
-plan = seamless_ao.core.batch_plan
+plan = seamless_ao.core.other_processes.batch_plan
 
 
 def touch(path, text="x", mtime=None):

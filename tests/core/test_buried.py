@@ -1,15 +1,15 @@
-"""Texels inside another piece (core/sealed.py, ao.buried, job.buried_rim and job.crease_points): found from
+"""Texels inside another piece (core/mesh/sealed.py, ao.buried, job.buried_rim and job.crease_points): found from
 their rays, and the rim of a buried region shaded again at the crease."""
 
 import numpy as np
 
 import meshes
-from seamless_ao.core.ao import buried, occlusion_sums
-from seamless_ao.core.job import crease_points
-from seamless_ao.core.rays import AOParams, BVHCaster
-from seamless_ao.core.targets import buried_rim
-from seamless_ao.core.raster import Texels
-from seamless_ao.core.sealed import MAX_OPENING, exact_weld, sealed_triangles
+from seamless_ao.core.rays.ao import buried, occlusion_sums
+from seamless_ao.core.rays.job import crease_points
+from seamless_ao.core.rays.ray_setup import AOParams, BVHCaster
+from seamless_ao.core.rays.targets import buried_rim
+from seamless_ao.core.atlas.raster import Texels
+from seamless_ao.core.mesh.sealed import MAX_OPENING, exact_weld, sealed_triangles
 
 
 def sheet(size=2.0, z=0.0, rows=4, x=0.0):
@@ -85,7 +85,7 @@ def test_a_shell_with_a_small_hole_and_a_hemisphere_are_sealed_a_shallow_dish_is
 
 
 def mirrored(positions, triangles):
-    """The mesh mirrored in x, wound so its faces still point outward (what core.rays.world_winding does)."""
+    """The mesh mirrored in x, wound so its faces still point outward (what core.rays.ray_setup.world_winding does)."""
     return positions * [-1.0, 1.0, 1.0], triangles[:, [0, 2, 1]]
 
 

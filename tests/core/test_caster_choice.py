@@ -36,11 +36,11 @@ def test_the_cycles_and_automatic_items_name_every_setting_cycles_needs():
 
 
 def test_a_caster_declares_what_it_can_do_and_goes_by_its_settings_name():
-    """core/rays.py's RayCaster: a caster that only casts single rays says so when asked for whole texels, warns
+    """core/rays/ray_setup.py's RayCaster: a caster that only casts single rays says so when asked for whole texels, warns
     of nothing, and credits its own rays; the report's words follow the Ray Caster items' labels."""
     import numpy as np
 
-    from seamless_ao.core.rays import BVHCaster, RayCaster
+    from seamless_ao.core.rays.ray_setup import BVHCaster, RayCaster
     from seamless_ao.core.settings import caster_words
 
     caster = BVHCaster(np.eye(3), np.array([[0, 1, 2]]))

@@ -5,9 +5,9 @@ import pytest
 
 import meshes
 from layout_checks import check_charts, overlaps_per_axis, surface_normals
-from seamless_ao.core.adjacency import face_adjacency
-from seamless_ao.core.clustering import AXES, BASES, cluster_faces, project, signed_axis_clusters
-from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.mesh.adjacency import face_adjacency
+from seamless_ao.core.charts.clustering import AXES, BASES, cluster_faces, project, signed_axis_clusters
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
 
 
 def test_sphere_charts_and_overlap_at_45_degrees():
@@ -198,7 +198,8 @@ def test_meshes_baked_together_never_weld_and_keep_their_own_tolerances():
 def test_rounds_after_a_split_pair_up_only_the_cuts(make, margin, monkeypatch):
     """make_injective remembers the boundary conflicts of a round (FoldMemory) and pairs up only the
     new boundary sides after a split; the charts must be those of checking every side every round."""
-    from seamless_ao.core import clustering, overlap
+    from seamless_ao.core.charts import clustering
+    from seamless_ao.core.charts import overlap
 
     mesh = TriangleMesh.from_triangles(*make(), smooth=True)
     topology = face_adjacency(mesh)
@@ -243,8 +244,8 @@ def test_parting_conflicts_keeps_every_pair_apart_in_as_few_connected_pieces_as_
     """part_conflicts on a chart that is a path of ten faces, with the pairs (0, 9) and (3, 6) to part: both
     pairs end in different charts, each piece is connected, and the Voronoi cells merge back to two pieces
     (0-4 and 5-9), not the four cells the four seeds grow."""
-    from seamless_ao.core.graph import Adjacency
-    from seamless_ao.core.splitting import part_conflicts
+    from seamless_ao.core.arrays.graph import Adjacency
+    from seamless_ao.core.charts.splitting import part_conflicts
     edges = np.stack([np.arange(9), np.arange(1, 10)], axis=1)
     on_axis = np.zeros(10, dtype=np.int64)
     on_axis, chart_axis, split_faces = part_conflicts(
@@ -255,7 +256,7 @@ def test_parting_conflicts_keeps_every_pair_apart_in_as_few_connected_pieces_as_
 
 
 def test_merging_cells_follows_the_links_in_order_and_never_joins_an_apart_pair():
-    from seamless_ao.core.splitting import merge_unless_apart
+    from seamless_ao.core.charts.splitting import merge_unless_apart
     # a ring of six cells, 0 and 3 apart: the first links merge 0-1-2, then 2-3 is refused, 3-4-5 merge,
     # and 5-0 is refused too (it would join 3 and 0 through the groups)
     links = np.array([[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0]])
@@ -287,7 +288,7 @@ def test_overwound_fans_finds_each_fan_past_a_full_turn_and_the_triangle_where_i
     not overwound; 1.2 to 2.3 times: overwound, no triangle ending exactly at 360 degrees).  For each
     overwound fan the pair is its first triangle and the one whose running angle first reaches 360 degrees,
     counted plainly triangle by triangle."""
-    from seamless_ao.core.overlap import overwound_fans
+    from seamless_ao.core.charts.overlap import overwound_fans
     uv, welded, group, expected = [], [], [], {}
     corner = 0
     for chart, (count, turns) in enumerate([(4, 1.0), (9, 1.4), (5, 1.2), (40, 2.3), (17, 1.0), (12, 1.25)]):
@@ -340,7 +341,7 @@ def test_the_depth_gap_of_a_triangle_inside_another_with_a_corner_on_its_side():
     """overlap_depth_gap over the closed overlap: a triangle sharing a side with a larger one and lying inside
     it with its third corner on the larger one's other side has no corner strictly inside and no proper edge
     crossing, so only ``closed`` sees the overlap and its depth gap (0.3 at that corner)."""
-    from seamless_ao.core.overlap import overlap_depth_gap
+    from seamless_ao.core.charts.overlap import overlap_depth_gap
     big = np.array([[[0.0, 0.0], [0.0, 2.0], [1.0, 1.0]]])
     small = np.array([[[0.0, 1.0], [0.0, 2.0], [1.0, 1.0]]])
     big_depth, small_depth = np.zeros((1, 3)), np.array([[0.3, 0.0, 0.0]])
@@ -355,7 +356,7 @@ def test_a_chart_touching_itself_at_a_vertex_with_one_wedge_inside_the_other_is_
     the first and 0.3 above it.  Their sides cross nowhere but at that vertex, where boundary sides sharing an
     end are not compared; their angles there add up to 63 degrees, far from a full turn; they share no side.
     Only the overlap of the two wedges shows the fold; no pair when the second wedge only touches the first."""
-    from seamless_ao.core.overlap import fold_conflicts
+    from seamless_ao.core.charts.overlap import fold_conflicts
 
     def conflicts(inner):
         uv = np.array([[[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]], [[0.0, 0.0]] + inner])
@@ -370,7 +371,7 @@ def test_a_chart_touching_itself_at_a_vertex_with_one_wedge_inside_the_other_is_
 def test_overlapping_wedges_sees_overlaps_across_the_zero_direction_and_not_wedges_that_touch():
     """Wedges at vertex 0 of one chart (pinch_keys names it): 300 to 380 degrees against 10 to 60 overlap
     across the zero direction; 100 to 200 against 200 to 280 only touch."""
-    from seamless_ao.core.overlap import overlapping_wedges
+    from seamless_ao.core.charts.overlap import overlapping_wedges
 
     def wedge(start, end):
         a, b = np.radians([start, end])

@@ -3,14 +3,14 @@
 import numpy as np
 
 import meshes
-from seamless_ao.core.denoise import denoise
+from seamless_ao.core.image.denoise import denoise
 
 
 def synthetic(mesh_positions, triangles, truth, rays, seed=0):
     """A layout of a mesh, per-texel values = truth(point) + binomial-like noise for ``rays`` rays."""
-    from seamless_ao.core.mesh import TriangleMesh
+    from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
     from seamless_ao.core.layout import build_layout
-    from seamless_ao.core.raster import texel_geometry
+    from seamless_ao.core.atlas.raster import texel_geometry
     mesh = TriangleMesh.from_triangles(mesh_positions, triangles)
     layout = build_layout(mesh, image_size=256)
     points, _, _ = texel_geometry(layout.texels, layout.atlas, mesh)
@@ -78,7 +78,7 @@ def test_a_crease_alone_stops_the_blur():
 def test_the_weight_widens_as_the_rays_get_fewer():
     """One ray leaves the most noise and gets the widest weight; from 8 rays on it is one texel in a 5x5 window,
     and the window never grows past MAX_RADIUS."""
-    from seamless_ao.core.denoise import MAX_RADIUS, space_sigma_for, window_radius
+    from seamless_ao.core.image.denoise import MAX_RADIUS, space_sigma_for, window_radius
     widths = [space_sigma_for(rays) for rays in (1, 2, 4, 8, 64)]
     assert widths == sorted(widths, reverse=True) and widths[0] > 2.5, widths
     assert widths[3] == widths[4] == 1.0 and window_radius(1.0) == 2

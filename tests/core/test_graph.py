@@ -1,9 +1,9 @@
-"""core/graph.py's connected components against a plain search."""
+"""core/arrays/graph.py's connected components against a plain search."""
 
 import numpy as np
 import pytest
 
-from seamless_ao.core.graph import connected_components, sort_order
+from seamless_ao.core.arrays.graph import connected_components, sort_order
 
 
 @pytest.mark.parametrize("nodes, edge_count", [(1, 0), (9, 0), (30, 12), (200, 150), (500, 2000), (300, -1)])

@@ -1,18 +1,18 @@
-"""The ray schedule of a bake (core/job.py): pilot and remaining rays, and weighted rays per texel."""
+"""The ray schedule of a bake (core/rays/job.py): pilot and remaining rays, and weighted rays per texel."""
 
 import numpy as np
 import pytest
 
 import meshes
-from seamless_ao.core.shown import blend_weights
-from seamless_ao.core import job as job_module
-from seamless_ao.core.job import MIN_SHARED_RAYS, AOJob
-from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.image.shown import blend_weights
+from seamless_ao.core.rays import job as job_module
+from seamless_ao.core.rays.job import MIN_SHARED_RAYS, AOJob
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
 from seamless_ao.core.layout import build_layout
-from seamless_ao.core.raster import texel_geometry
-from seamless_ao.core.rays import BVHCaster, ray_part
+from seamless_ao.core.atlas.raster import texel_geometry
+from seamless_ao.core.rays.ray_setup import BVHCaster, ray_part
 from seamless_ao.core.settings import BULK_PILOT_RAYS, BakeSettings
-from seamless_ao.core.targets import MAX_RAY_HALVINGS, RING_RAY_HALVINGS, TexelTargets, ray_shares
+from seamless_ao.core.rays.targets import MAX_RAY_HALVINGS, RING_RAY_HALVINGS, TexelTargets, ray_shares
 
 
 @pytest.fixture(scope="module")
@@ -107,7 +107,7 @@ def test_adaptive_stop_with_weighted_rays_scales_each_texel_to_its_own_count(tor
 def test_texel_targets_give_every_selection_the_geometry_of_its_own_texels(torus_layout, kept, monkeypatch):
     # Kept or computed per call (over GEOMETRY_CACHE_TEXELS), a selection reads its own texels' points and
     # normals, in its own order, bit for bit as texel_geometry computes them.
-    import seamless_ao.core.targets as targets_module
+    import seamless_ao.core.rays.targets as targets_module
     monkeypatch.setattr(targets_module, "GEOMETRY_CACHE_TEXELS", 1 << 30 if kept else 0)
     targets = TexelTargets(torus_layout)
     layout = torus_layout

@@ -9,12 +9,12 @@ import pytest
 import meshes
 from layout_checks import check_texels_finite, overlaps_per_axis
 from plane_judge import boxes_within_brute
-from seamless_ao.core.adjacency import face_adjacency
-from seamless_ao.core.candidates import candidate_pairs, without_quiet_sides
-from seamless_ao.core.clustering import cut_long_charts, signed_axis_clusters
+from seamless_ao.core.mesh.adjacency import face_adjacency
+from seamless_ao.core.charts.candidates import candidate_pairs, without_quiet_sides
+from seamless_ao.core.charts.clustering import cut_long_charts, signed_axis_clusters
 from seamless_ao.core.layout import build_layout
-from seamless_ao.core.mesh import TriangleMesh, weld_vertices
-from seamless_ao.core.rays import ray_part, world_reach
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh, weld_vertices
+from seamless_ao.core.rays.ray_setup import ray_part, world_reach
 from seamless_ao.core.settings import BakeSettings
 
 
@@ -106,7 +106,7 @@ def test_a_spike_at_a_given_texel_density_is_shrunk_instead_of_refused():
 
 
 def test_the_box_of_a_mesh_leaves_out_a_spike_but_not_a_long_tip_or_loose_vertices():
-    from seamless_ao.core.extent import robust_box
+    from seamless_ao.core.mesh.extent import robust_box
     sphere_positions, sphere_triangles = meshes.uv_sphere(rings=30, segments=60)
     full = (sphere_positions.min(axis=0), sphere_positions.max(axis=0))
     positions, triangles = with_spike(sphere_positions, sphere_triangles, 1e5)
@@ -227,7 +227,7 @@ def test_a_small_mesh_whose_faces_vanish_next_to_vertices_far_out_is_refused_say
     """Under 1,000 triangles nothing is left out of the mesh's size, so a small triangle 10^12 out makes
     every face zero-area next to it.  The refusal says that, rather than that the faces have no area."""
     from seamless_ao.core.errors import SeamlessAOError
-    from seamless_ao.core.mesh import require_faces
+    from seamless_ao.core.mesh.triangle_mesh import require_faces
     positions, triangles = meshes.uv_sphere(rings=10, segments=20)
     positions = np.vstack([positions, [[1e12, 0.0, 0.0], [1e12, 1.0, 0.0], [1e12, 0.0, 1.0]]])
     triangles = np.vstack([triangles, [[len(positions) - 3, len(positions) - 2, len(positions) - 1]]])

@@ -1,13 +1,13 @@
-"""Issue 53: a packing is one record (core/packings.py); the settings' choices, the channels a resample writes and
+"""Issue 53: a packing is one record (core/export/packings.py); the settings' choices, the channels a resample writes and
 the PNG it becomes are read off it, and the export's array half (resample -> PNG bytes) runs without Blender."""
 
 import numpy as np
 import pytest
 
-from seamless_ao.core.packings import PACKINGS, pack_channels
+from seamless_ao.core.export.packings import PACKINGS, pack_channels
 from seamless_ao.core.settings import GLTF_PACKING_ITEMS, PACKING_ITEMS, ExportSettings, GltfSettings
 from seamless_ao.core.errors import SeamlessAOError
-from seamless_ao.core.transfer import resample_to_uv, resampled_png
+from seamless_ao.core.export.transfer import resample_to_uv, resampled_png
 
 from png_levels import decode_png
 

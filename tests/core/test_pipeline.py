@@ -7,12 +7,12 @@ import pytest
 import meshes
 from accuracy import P99_LIMIT, RMSE_LIMIT, errors
 from plain_reference import plain_ao, visible_points
-from seamless_ao.core.ao import noise_estimate
-from seamless_ao.core.shown import blended_ao
+from seamless_ao.core.rays.ao import noise_estimate
+from seamless_ao.core.image.shown import blended_ao
 from seamless_ao.core.layout import layer_lookup
-from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
 from seamless_ao.core.pipeline import BakePipeline, bake_arrays
-from seamless_ao.core.rays import BVHCaster
+from seamless_ao.core.rays.ray_setup import BVHCaster
 from seamless_ao.core.settings import BakeSettings
 
 
@@ -27,7 +27,7 @@ def ring_on_a_floor():
 
 
 def shown_at_visible_points(result, mesh, count=400):
-    """What the node group shows (core/shown.py) at random visible points, and those points' normals."""
+    """What the node group shows (core/image/shown.py) at random visible points, and those points' normals."""
     triangle, bary, points = visible_points(mesh.positions, mesh.triangles, count, seed=11)
     normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)

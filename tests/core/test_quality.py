@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import meshes
-from seamless_ao.core.mesh import TriangleMesh
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
 from seamless_ao.core.pipeline import BakePipeline, bake_arrays
-from seamless_ao.core.rays import BVHCaster
+from seamless_ao.core.rays.ray_setup import BVHCaster
 from seamless_ao.core.settings import PRESETS, QUALITY_ITEMS, BakeSettings, implied_quality
 
 

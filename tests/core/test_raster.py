@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from seamless_ao.core.mesh import TriangleMesh
-from seamless_ao.core.raster import NEAR, closest_barycentric, point_keys, rasterise_triangles, rim_triangles
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
+from seamless_ao.core.atlas.raster import NEAR, closest_barycentric, point_keys, rasterise_triangles, rim_triangles
 
 
 def grid(columns, rows, cell, jitter, seed, holes=0):
@@ -96,7 +96,7 @@ def test_near_texels_from_the_rim_are_those_from_every_triangle(cell, jitter, ho
 def test_rim_distance_is_the_distance_to_the_nearest_side_written_out_side_by_side():
     """The texel points moved off a crease are those closer to their triangle's border than the inset;
     the distance comes from each corner's height, checked against point-to-segment distances."""
-    from seamless_ao.core.raster import _rim_distance
+    from seamless_ao.core.atlas.raster import _rim_distance
     rng = np.random.default_rng(5)
     positions = rng.normal(size=(300, 3))
     triangles = rng.integers(0, 300, (200, 3))

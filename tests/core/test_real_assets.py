@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import real_assets
-from seamless_ao.core.mesh import TriangleMesh
-from seamless_ao.core.packing import Packer
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
+from seamless_ao.core.atlas.packing import Packer
 from seamless_ao.core.layout import build_layout, layer_lookup
-from seamless_ao.core.raster import texel_geometry
+from seamless_ao.core.atlas.raster import texel_geometry
 from layout_checks import random_surface_points, texel_table
 
 
@@ -86,7 +86,7 @@ def test_the_generated_interior_has_what_made_the_old_packer_give_up():
     """The stand-in is what it stands for: 1,000+ pieces and 60k+ triangles (that it lays out at every size
     is :func:`test_asset_lays_out_at_every_size`'s)."""
     mesh = TriangleMesh.from_triangles(*real_assets.interior())
-    from seamless_ao.core.adjacency import face_adjacency
+    from seamless_ao.core.mesh.adjacency import face_adjacency
     topology = face_adjacency(mesh)
     edges = topology.face_edges
     parent = np.arange(mesh.face_count)
@@ -150,8 +150,8 @@ def test_long_charts_are_cut_so_a_long_part_does_not_set_the_density():
 
 
 def test_cutting_keeps_each_piece_on_its_axis_and_every_face_in_a_chart():
-    from seamless_ao.core.adjacency import face_adjacency
-    from seamless_ao.core.clustering import cluster_faces, cut_long_charts
+    from seamless_ao.core.mesh.adjacency import face_adjacency
+    from seamless_ao.core.charts.clustering import cluster_faces, cut_long_charts
     positions, triangles = real_assets.long_thin(segments=200)
     mesh = TriangleMesh.from_triangles(positions, triangles)
     charts = cluster_faces(mesh, face_adjacency(mesh))

@@ -5,17 +5,17 @@ the memory estimate, a bake's ray parameters, the one adaptive stop, export sett
 import numpy as np
 import pytest
 
-from seamless_ao.core.ao import settle_pilot
+from seamless_ao.core.rays.ao import settle_pilot
 from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
-from seamless_ao.core.transfer import sample_repeat, texel_uv, vertex_average
-from seamless_ao.core.graph import Adjacency, sort_order
-from seamless_ao.core.mesh import duplicate_triangle_count, sanitized_normals, weld_vertices
-from seamless_ao.core.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
-from seamless_ao.core.geometry2d import segment_distance, triangle_angles
-from seamless_ao.core.packing import SMALL_TEXELS, density_filling
-from seamless_ao.core.png import encode_png
-from seamless_ao.core.rays import AOParams, ao_params
+from seamless_ao.core.export.transfer import sample_repeat, texel_uv, vertex_average
+from seamless_ao.core.arrays.graph import Adjacency, sort_order
+from seamless_ao.core.mesh.triangle_mesh import duplicate_triangle_count, sanitized_normals, weld_vertices
+from seamless_ao.core.charts.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
+from seamless_ao.core.arrays.geometry2d import segment_distance, triangle_angles
+from seamless_ao.core.atlas.packing import SMALL_TEXELS, density_filling
+from seamless_ao.core.export.png import encode_png
+from seamless_ao.core.rays.ray_setup import AOParams, ao_params
 from seamless_ao.core.settings import BakeSettings, ExportSettings
 
 from png_levels import decode_png

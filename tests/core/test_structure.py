@@ -100,8 +100,8 @@ def test_no_two_classes_or_public_functions_share_a_name():
 
 #: Parameters that share a name with an export setting and mean something else: ``(module, parameter)``.
 NOT_EXPORT_SETTINGS = {
-    ("core.atlas", "padding"), ("core.layout", "padding"), ("core.raster", "padding"),   # the atlas's, a bake's
-    ("core.png", "bit_depth"),                                                           # the PNG writer's, an int
+    ("core.atlas.chart_atlas", "padding"), ("core.layout", "padding"), ("core.atlas.raster", "padding"),   # the atlas's, a bake's
+    ("core.export.png", "bit_depth"),                                                           # the PNG writer's, an int
 }
 
 
@@ -138,6 +138,22 @@ def test_no_module_imports_the_package_root():
 
 def test_the_core_map_names_every_core_module():
     """core/__init__.py's table is the map of core/: every module in it, and nothing that is not there."""
-    mapped = set(re.findall(r":mod:`\.(\w+)`", (ROOT / "core" / "__init__.py").read_text()))
-    present = {path.stem for path in (ROOT / "core").glob("*.py") if path.stem != "__init__"}
+    core = ROOT / "core"
+    mapped = set(re.findall(r":mod:`\.([\w.]+)`", (core / "__init__.py").read_text()))
+    present = {".".join(path.relative_to(core).with_suffix("").parts) for path in core.rglob("*.py")
+               if path.stem != "__init__"}
     assert mapped == present, (sorted(present - mapped), sorted(mapped - present))
+
+
+def test_core_is_grouped_by_stage():
+    """core/ holds the modules that chain the stages, and one folder per stage: no folder inside a stage, and no
+    stage folder without its own docstring."""
+    core = ROOT / "core"
+    stages = [path for path in core.iterdir() if path.is_dir() and path.name != "__pycache__"]
+    assert stages, "core/ has no stage folders"
+    for stage in stages:
+        assert (stage / "__init__.py").is_file(), stage
+        assert ast.get_docstring(ast.parse((stage / "__init__.py").read_text())), stage
+        assert not [p for p in stage.iterdir() if p.is_dir() and p.name != "__pycache__"], stage
+    top = sorted(path.stem for path in core.glob("*.py") if path.stem != "__init__")
+    assert len(top) <= 8, top

@@ -1,8 +1,8 @@
-"""Issue 29: whether a UV map can hold the AO (core/uv_fitness.py), on maps whose faults are known."""
+"""Issue 29: whether a UV map can hold the AO (core/export/uv_fitness.py), on maps whose faults are known."""
 
 import numpy as np
 
-from seamless_ao.core.uv_fitness import TOLERATED_SHARE, uv_fitness
+from seamless_ao.core.export.uv_fitness import TOLERATED_SHARE, uv_fitness
 
 
 def grid_map(cells=8, offset=(0.0, 0.0), scale=1.0):

@@ -4,7 +4,7 @@ import numpy as np
 
 from package import seamless_ao  # noqa: F401  (imports the add-on as ``seamless_ao``)
 
-from seamless_ao.core.viewport_uv import face_uv_maps, stands_off, surface_uv
+from seamless_ao.core.atlas.viewport_uv import face_uv_maps, stands_off, surface_uv
 
 
 def quads_and_triangles(rng, faces=40):

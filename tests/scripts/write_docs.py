@@ -99,9 +99,12 @@ def constants_page():
     """Every public numeric module-level constant of core/, with its value and its ``#:`` comment."""
     from package import seamless_ao
     rows = ["| module | constant | value | meaning |", "|---|---|---|---|"]
-    for path in sorted((ROOT / "core").glob("*.py")):
+    for path in sorted((ROOT / "core").rglob("*.py")):
+        if path.stem == "__init__":
+            continue
+        dotted = ".".join(path.relative_to(ROOT).with_suffix("").parts)
         lines = path.read_text().splitlines()
-        module = importlib.import_module("{}.core.{}".format(seamless_ao.__name__, path.stem))
+        module = importlib.import_module("{}.{}".format(seamless_ao.__name__, dotted))
         for node in ast.parse("\n".join(lines)).body:
             if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
                 continue
@@ -115,7 +118,8 @@ def constants_page():
             if name.startswith("_") or not name.isupper() or not isinstance(value, (int, float)) or isinstance(
                     value, bool):
                 continue
-            rows.append("| `{}` | `{}` | {} | {} |".format(path.stem, name, number(value), " ".join(comment) or "—"))
+            rows.append("| `{}` | `{}` | {} | {} |".format(dotted[len("core."):], name, number(value),
+                                                            " ".join(comment) or "—"))
     return "\n".join(["# Constants", "", GENERATED.format("the `#:` comments of `core/`"), "",
                       "The tolerances, limits and margins the bake works with, as the code has them. Sizes "
                       "relative to an object are fractions of its bounding-box diagonal.", "", *rows, ""])

@@ -4,7 +4,7 @@ import numpy as np
 
 from blender_checks import image_array, shown_seamless, uv_layer_array  # noqa: F401 (shown_seamless: for the tests)
 from plain_reference import plain_ao, visible_points
-from seamless_ao.core.shown import bilinear
+from seamless_ao.core.image.shown import bilinear
 from seamless_ao.core.settings import BakeSettings
 
 #: Accuracy the tests hold a bake to, against the plain reference at random visible points: RMSE of the shown AO.

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from seamless_ao.core.shown import blended_ao
+from seamless_ao.core.image.shown import blended_ao
 
 
 def image_array(image):

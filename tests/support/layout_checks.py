@@ -5,11 +5,11 @@ code with the layout it judges."""
 import numpy as np
 
 from plane_judge import boxes_within, depth_at, interiors_overlap, overlap_point, triangle_distance
-from seamless_ao.core.adjacency import face_adjacency
-from seamless_ao.core.clustering import AXES, NORMAL_SMOOTHING, SAME_SURFACE, cluster_faces
+from seamless_ao.core.mesh.adjacency import face_adjacency
+from seamless_ao.core.charts.clustering import AXES, NORMAL_SMOOTHING, SAME_SURFACE, cluster_faces
 from seamless_ao.core.layout import layer_lookup
-from seamless_ao.core.packing import chart_kinds as packing_chart_kinds
-from seamless_ao.core.raster import COVERED, PADDING, RIM_TEXELS, texel_geometry
+from seamless_ao.core.atlas.packing import chart_kinds as packing_chart_kinds
+from seamless_ao.core.atlas.raster import COVERED, PADDING, RIM_TEXELS, texel_geometry
 
 
 def random_surface_points(mesh, count, rng, per_triangle=False):

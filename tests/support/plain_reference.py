@@ -180,7 +180,7 @@ def reference_at_visible_points(mesh, count=500, rays=4096, seed=3):
     """The plain reference at ``count`` visible points of a mesh, with the maximum distance used.
 
     ``mesh`` has ``positions``, ``triangles``, ``corner_normals`` (t, 3, 3) and
-    ``triangle_normal`` (t, 3) (a :class:`seamless_ao.core.mesh.TriangleMesh`);
+    ``triangle_normal`` (t, 3) (a :class:`seamless_ao.core.mesh.triangle_mesh.TriangleMesh`);
     the maximum distance is half the bounding-box diagonal.
 
     Returns triangle (k,), bary (k, 3), shading normals (k, 3), AO (k,), max_distance.

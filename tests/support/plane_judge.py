@@ -1,6 +1,6 @@
 """An independent judge of 2D triangle layouts for the tests: which pairs come close, which overlap, how far
 apart two triangles are.  Brute force over every pair of a group, with its own geometry; it shares no code with
-``core/overlap.py``, ``core/candidates.py`` or ``core/geometry2d.py``, whose answers it checks."""
+``core/charts/overlap.py``, ``core/charts/candidates.py`` or ``core/arrays/geometry2d.py``, whose answers it checks."""
 
 import numpy as np
 

@@ -8,7 +8,7 @@ from mathutils.bvhtree import BVHTree
 from accuracy import surface_samples
 from blender_checks import image_array, uv_layer_array
 from package import seamless_ao  # noqa: F401  (imports the add-on as ``seamless_ao``)
-from seamless_ao.core.shown import blended_ao
+from seamless_ao.core.image.shown import blended_ao
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 

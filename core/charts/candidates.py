@@ -8,8 +8,8 @@ only leave out pairs that cannot be a conflict there.
 
 import numpy as np
 
-from .geometry2d import boxes_of_groups, corner_max, corner_min
-from .graph import group_starts, index_in_runs, pairs_within_groups, sort_order
+from ..arrays.geometry2d import boxes_of_groups, corner_max, corner_min
+from ..arrays.graph import group_starts, index_in_runs, pairs_within_groups, sort_order
 
 
 #: A box more than this many grid cells long is a giant (a spike to a stray vertex):

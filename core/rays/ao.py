@@ -8,8 +8,8 @@ visibility as Cycles computes it), or ``1 - d/max`` (``LINEAR``, the thesis'
 falloff), or ``1 - sqrt(d/max)`` (``OBSCURANCE``); hits beyond the maximum
 distance do not count.
 
-Rays are cast by a *caster* (:class:`.rays.RayCaster`), with the
-parameters of :class:`.rays.AOParams`, in the ray space of :func:`.rays.ray_space`.
+Rays are cast by a *caster* (:class:`.ray_setup.RayCaster`), with the
+parameters of :class:`.ray_setup.AOParams`, in the ray space of :func:`.ray_setup.ray_space`.
 
 Robustness, all relative to the object's size:
 
@@ -186,7 +186,7 @@ def buried(behind, rays, params):
     crease).  From inside a closed, consistently oriented piece every ray
     meets the piece's inside, the back of its faces; from a visible point rays
     meet front faces.  Only faces of (nearly) closed pieces count
-    (:mod:`.sealed`): behind an open sheet (a drape before a wall) rays meet
+    (:mod:`..mesh.sealed`): behind an open sheet (a drape before a wall) rays meet
     its back too, though the point is seen round the sheet's edges.  So a
     point is buried when more than half of its rays hit the back of sealed
     faces.  With ``ignore_backfaces`` the user has said back faces are not

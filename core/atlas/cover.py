@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry2d import band_x_extent, boxes_of_groups, corner_max, corner_min
-from .graph import index_in_runs
+from ..arrays.geometry2d import band_x_extent, boxes_of_groups, corner_max, corner_min
+from ..arrays.graph import index_in_runs
 
 #: Most bands per chart (a chart's cover has twice as many triangles).
 MAX_ROWS = 32

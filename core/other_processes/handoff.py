@@ -17,8 +17,8 @@ import os
 
 import numpy as np
 
-from .mesh import TriangleMesh
-from .settings import BakeSettings
+from ..mesh.triangle_mesh import TriangleMesh
+from ..settings import BakeSettings
 
 JOB = "job.json"
 PROGRESS = "progress.txt"
@@ -65,7 +65,7 @@ def write_job(folder, meshes, matrices, occluders, settings, shown=None):
         world geometry near that mesh
     settings : BakeSettings
     shown : list (one per mesh) of None or ``(positions, corner_vert, loop_start)``, optional: another surface
-        the mesh shows (:class:`.pipeline.BakePipeline`'s ``shown``)
+        the mesh shows (:class:`..pipeline.BakePipeline`'s ``shown``)
     """
     shown = list(shown) if shown is not None else [None] * len(meshes)
     for part, surface in enumerate(shown):
@@ -119,7 +119,7 @@ def read_progress(folder):
 
 
 def outcome_numbers(result):
-    """What the report says of a :class:`.pipeline.BakeResult`, as plain numbers and sentences."""
+    """What the report says of a :class:`..pipeline.BakeResult`, as plain numbers and sentences."""
     layout = result.layout
     return {"texels": int(result.texels), "rays": int(result.rays), "noise": float(result.noise),
             "caster": result.caster, "timings": {k: float(v) for k, v in result.timings.items()},
@@ -155,7 +155,7 @@ class HandedBack:
         return [_load(self.folder, "uv{}_{}".format(part, axis)) for axis in range(3)]
 
     def part_shown_uv(self, part):
-        """(3, l, 2) float32 or None: see :meth:`.pipeline.BakeResult.part_shown_uv`."""
+        """(3, l, 2) float32 or None: see :meth:`..pipeline.BakeResult.part_shown_uv`."""
         if not os.path.exists(os.path.join(self.folder, "shown_uv{}.npy".format(part))):
             return None
         return _load(self.folder, "shown_uv{}".format(part))

@@ -2,7 +2,7 @@
 another level in the viewport than at render.
 
 Within one chart the UVs are an affine function of the two coordinates the chart's axis keeps
-(:meth:`.atlas.Atlas.layer_drop`), so each baked face carries, per layer, that function
+(:meth:`.chart_atlas.Atlas.layer_drop`), so each baked face carries, per layer, that function
 (:func:`face_uv_maps`).  :func:`surface_uv` gives each face of the other surface, per layer, one chart's
 function evaluated at its own corners: the chart of the baked face nearest its centre, or, where the face
 reaches past that chart, the chart that holds most of its corners.  A corner the chosen chart does not hold

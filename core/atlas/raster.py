@@ -18,20 +18,20 @@ point extrapolated into the solid at a concave crease.
 Memory is linear in texels: two full-size maps while rasterising (8 bytes per
 image texel), then compact arrays of the texels in use (13 bytes each); points
 and normals are computed on demand for one batch at a time (a bake of up to
-:data:`.targets.GEOMETRY_CACHE_TEXELS` texels keeps them, 72 bytes a texel).
+:data:`..rays.targets.GEOMETRY_CACHE_TEXELS` texels keeps them, 72 bytes a texel).
 """
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry2d import band_x_extent, closest_barycentric, corner_max, corner_min, point_keys, triangle_score
-from .graph import index_in_runs, sort_order
-from .grid import neighbour_texels, neighbour_values
+from ..arrays.geometry2d import band_x_extent, closest_barycentric, corner_max, corner_min, point_keys, triangle_score
+from ..arrays.graph import index_in_runs, sort_order
+from ..arrays.grid import neighbour_texels, neighbour_values
 
 COVERED, NEAR, PADDING = 0, 1, 2
 #: Points on a triangle's rim move this far (times the object size) into it: twice
-#: the ray origins' lift (:data:`.rays.ORIGIN_OFFSET`), see :func:`_inset_rim_points`.
+#: the ray origins' lift (:data:`..rays.ray_setup.ORIGIN_OFFSET`), see :func:`_inset_rim_points`.
 RIM_INSET = 2.0e-5
 #: Rim points move at least this many texels into their triangle (:data:`RIM_INSET` where more): a
 #: texel at a chart's rim holds the AO a quarter texel inside, not the exact rim's (:func:`texel_geometry`).

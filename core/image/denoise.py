@@ -17,7 +17,7 @@ most :data:`MAX_RADIUS` texels each side (tests/bench/bench_denoise.py).
 
 import numpy as np
 
-from .raster import texel_geometry
+from ..atlas.raster import texel_geometry
 
 #: Texel positions are clipped to this distance from the origin (object units) before float32
 #: distances are squared (squares up to 1.2e37, under float32's 3.4e38).
@@ -69,8 +69,8 @@ def denoise(texels, atlas, mesh, values, computed, rays, radius=None, space_sigm
     range_sigmas : float, value differences beyond this many noise sigmas do not blend
     geometry : callable, optional
         ``selection -> (points, normals, geometric)`` of ``computed`` texels (the bake's
-        :meth:`.targets.TexelTargets.geometry`, which may have them already); by default
-        :func:`.raster.texel_geometry`.
+        :meth:`..rays.targets.TexelTargets.geometry`, which may have them already); by default
+        :func:`..atlas.raster.texel_geometry`.
 
     Returns
     -------

@@ -9,7 +9,7 @@ beyond casting single rays:
 ``cast(origins (n, 3), directions (n, 3), max_distance) -> (distance (n,), facing (n,), sealed (n,))``,
 ``distance`` ``inf`` for a miss, ``facing`` the dot product of the hit face's
 normal with the ray (> 0: the ray hit a back face), ``sealed`` whether the hit
-face belongs to a (nearly) closed piece (:mod:`.sealed`); and ``free()``.
+face belongs to a (nearly) closed piece (:mod:`..mesh.sealed`); and ``free()``.
 :class:`BVHCaster` loops over ``mathutils.bvhtree.BVHTree.ray_cast``.
 """
 
@@ -18,8 +18,8 @@ from typing import Callable
 
 import numpy as np
 
-from .extent import mesh_size
-from .sealed import sealed_triangles
+from ..mesh.extent import mesh_size
+from ..mesh.sealed import sealed_triangles
 
 #: Ray origins are lifted this far (times the object size) off the surface.
 ORIGIN_OFFSET = 1.0e-5
@@ -76,8 +76,8 @@ def ao_params(settings, positions, rays=None, rest=None):
 
 def rest_vertices(mesh):
     """(k,) int64: the vertices of ``mesh`` its triangles use, but for debris far out (the triangles
-    :attr:`.mesh.TriangleMesh.stray` marks; loose vertices are no part of the mesh), or None when the
-    whole mesh is the rest (its box is :attr:`.mesh.TriangleMesh.box`)."""
+    :attr:`..mesh.triangle_mesh.TriangleMesh.stray` marks; loose vertices are no part of the mesh), or None when the
+    whole mesh is the rest (its box is :attr:`..mesh.triangle_mesh.TriangleMesh.box`)."""
     whole = (mesh.positions.min(axis=0), mesh.positions.max(axis=0))
     if np.array_equal(np.array(mesh.box), np.array(whole)):
         return None
@@ -92,7 +92,7 @@ class RayCaster:
     Attributes
     ----------
     name : str, the caster's ``ray_caster`` setting (``core/settings.py``'s ``CASTER_ITEMS``): settings, class
-        and the report's words (:func:`.settings.caster_words`) go by it
+        and the report's words (:func:`..settings.caster_words`) go by it
     bakes_whole_texels : bool, whether :meth:`ambient_occlusion` computes whole texels (Cycles' AO bake);
         :class:`.job.AOJob` then hands it every ray after each texel's pilot
     warnings : list of str, what the caster has to tell the user (the Cycles caster: the GPU it was asked
@@ -127,7 +127,7 @@ class BVHCaster(RayCaster):
     ----------
     positions : (v, 3) float
     triangles : (t, 3) int
-    sealed : (t,) bool, optional, triangles of closed pieces (:mod:`.sealed`; none if not given)
+    sealed : (t,) bool, optional, triangles of closed pieces (:mod:`..mesh.sealed`; none if not given)
     """
 
     name = "PYTHON_BVH"
@@ -235,7 +235,7 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     float32 BVHs even far from the world origin.  The caster is made from the
     mesh in ray space, plus the ``occluders`` (the scene geometry within the
     maximum ray distance: :func:`world_reach`), and which triangles belong to
-    sealed pieces (:mod:`.sealed`).
+    sealed pieces (:mod:`..mesh.sealed`).
 
     Parameters
     ----------

@@ -9,7 +9,7 @@ every conflict found, so only conflicts along the new cuts need another.
 
 import numpy as np
 
-from .graph import connected_components
+from ..arrays.graph import connected_components
 
 
 def part_conflicts(adjacency, edges, on_axis, chart_axis, apart):

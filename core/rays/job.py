@@ -12,8 +12,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .ao import buried, occlusion_sums, settle_pilot
-from .rays import RayPart, pilot_rays
-from .settings import BULK_PILOT_RAYS
+from .ray_setup import RayPart, pilot_rays
+from ..settings import BULK_PILOT_RAYS
 from .targets import PointTargets
 
 #: Target duration of one :meth:`AOJob.step` (seconds).
@@ -55,7 +55,7 @@ class AOJob:
     between batches.
 
     When every part's caster can shade whole texels itself
-    (:attr:`.rays.RayCaster.bakes_whole_texels`, its ``ambient_occlusion``: the
+    (:attr:`.ray_setup.RayCaster.bakes_whole_texels`, its ``ambient_occlusion``: the
     Blender side's Cycles caster), each texel's first
     :data:`BULK_PILOT_RAYS` rays are cast ray by ray (they tell which texels
     are buried; the rays that find the creases are too), and the remaining

@@ -10,8 +10,8 @@ crease pass).
 
 import numpy as np
 
-from .grid import neighbour_values
-from .raster import texel_geometry
+from ..arrays.grid import neighbour_values
+from ..atlas.raster import texel_geometry
 
 #: Up to this many texels, their points and normals are computed once and kept for the bake (72 bytes
 #: each, 19 MB at most): the pilot, the remaining rays, the crease pass and the denoiser all read them.
@@ -30,7 +30,7 @@ MAX_RAY_HALVINGS = 3
 
 
 class TexelTargets:
-    """The texels of a :class:`.layout.Layout` as ray targets.
+    """The texels of a :class:`..layout.Layout` as ray targets.
 
     Parameters
     ----------
@@ -38,7 +38,7 @@ class TexelTargets:
     ray_rings : int
         Padding rings that get rays of their own (bilinear filtering reads
         only covered and near texels; farther rings are filled from their
-        neighbours by :func:`.fill.texel_image`, which is what mip-maps need).
+        neighbours by :func:`..image.fill.texel_image`, which is what mip-maps need).
     """
 
     def __init__(self, layout, ray_rings=1):

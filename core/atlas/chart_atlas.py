@@ -1,7 +1,7 @@
 """Charts to one packed atlas (thesis §7.6, with xatlas instead of its naive packer).
 
 Every chart is its faces projected on the chart's axis plane (drop one
-coordinate, :data:`.clustering.BASES` keeps the image unmirrored), scaled by
+coordinate, :data:`..charts.clustering.BASES` keeps the image unmirrored), scaled by
 one texel density for all charts.  :mod:`.packing` places the charts (xatlas
 for the large ones, given their covers; shared shelf-packed boxes for the small
 ones; one texel for those under a texel), never rotated, so side charts keep +Z
@@ -15,11 +15,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .clustering import project
+from ..charts.clustering import project
 from .cover import chart_covers
-from .errors import SeamlessAOError
-from .extent import mesh_size
-from .geometry2d import group_boxes
+from ..errors import SeamlessAOError
+from ..mesh.extent import mesh_size
+from ..arrays.geometry2d import group_boxes
 from .packing import (MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density,
                       xatlas_padding)
 
@@ -325,10 +325,10 @@ def long_chart_factors(longest, member_area, member_chart, limit, image_size=Non
     ``image_size`` image) gets :data:`SHRUNK_CHART_SHARE` of ``limit``
     texels along its longer side (before the density search scales all
     charts alike), and so does a ``stray`` chart longer than that (one
-    holding triangles the mesh's size leaves out, :attr:`.mesh.TriangleMesh.stray`:
+    holding triangles the mesh's size leaves out, :attr:`..mesh.triangle_mesh.TriangleMesh.stray`:
     a sheet of spikes to far outliers is more surface than the rest); the
     others keep the common density (1).  Long charts are cut into pieces
-    before (:func:`.clustering.cut_long_charts`), but not their faces: a
+    before (:func:`..charts.clustering.cut_long_charts`), but not their faces: a
     spike to a stray vertex, or one long quad, is one face however long.
     Without this, the density search would shrink every chart until that
     one fits.  With ``image_size``, the expected density is that of the

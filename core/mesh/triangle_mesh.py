@@ -10,9 +10,9 @@ from functools import cached_property
 
 import numpy as np
 
-from .errors import SeamlessAOError
+from ..errors import SeamlessAOError
 from .extent import box_size, mesh_size, robust_box
-from .graph import connected_components, group_starts, scatter_rows, sort_order
+from ..arrays.graph import connected_components, group_starts, scatter_rows, sort_order
 
 
 #: Triangles with less area than this times the squared mesh size are degenerate.
@@ -65,7 +65,7 @@ class TriangleMesh:
     stray : (t,) bool
         The triangles left out of it (a spike to a stray vertex, a few
         triangles floating far off): their charts get few texels
-        (:func:`.atlas.long_chart_factors`).
+        (:func:`..atlas.chart_atlas.long_chart_factors`).
     part_of_vertex : (v,) int64
         Input mesh of each vertex (all 0 for one mesh); parts never weld.
     part_scale : (p,) float64

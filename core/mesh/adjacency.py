@@ -4,13 +4,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .graph import group_starts, pairs_within_groups, sort_order, unique_rows
-from .mesh import WELD_TOLERANCE, MeshReport, duplicate_triangle_count, weld_vertices
+from ..arrays.graph import group_starts, pairs_within_groups, sort_order, unique_rows
+from .triangle_mesh import WELD_TOLERANCE, MeshReport, duplicate_triangle_count, weld_vertices
 
 
 @dataclass
 class Topology:
-    """Adjacency of a :class:`~.mesh.TriangleMesh` after welding.
+    """Adjacency of a :class:`~.triangle_mesh.TriangleMesh` after welding.
 
     Attributes
     ----------
@@ -60,7 +60,7 @@ def face_adjacency(mesh, weld_tolerance=WELD_TOLERANCE):
     mesh : TriangleMesh
     weld_tolerance : float
         Relative to each part's ``scale`` (bounding-box diagonal); parts of a
-        :meth:`~.mesh.TriangleMesh.concatenate`'d mesh never weld together.
+        :meth:`~.triangle_mesh.TriangleMesh.concatenate`'d mesh never weld together.
 
     Returns
     -------

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry2d import cross2d
-from .raster import covered_rows, expand_spans
+from ..arrays.geometry2d import cross2d
+from ..atlas.raster import covered_rows, expand_spans
 
 #: A fault under this share of the surface does not count (a sliver here and there).
 TOLERATED_SHARE = 0.01

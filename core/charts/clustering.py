@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry2d import group_boxes
-from .graph import Adjacency, connected_components, group_starts, index_in_runs, scatter_rows
+from ..arrays.geometry2d import group_boxes
+from ..arrays.graph import Adjacency, connected_components, group_starts, index_in_runs, scatter_rows
 from .overlap import FoldMemory, fold_conflicts
 from .splitting import part_conflicts
 
@@ -162,7 +162,7 @@ def smoothed_face_normals(mesh, edges, rounds=NORMAL_SMOOTHING):
     Parameters
     ----------
     mesh : TriangleMesh
-    edges : (e, 2) int, faces sharing an edge (:attr:`.adjacency.Topology.face_edges`)
+    edges : (e, 2) int, faces sharing an edge (:attr:`..mesh.adjacency.Topology.face_edges`)
     """
     weighted = scatter_rows(np.add, np.zeros((mesh.face_count, 3)), mesh.triangle_face, mesh.triangle_cross)
     for _ in range(rounds):
@@ -189,7 +189,7 @@ def signed_axis_clusters(mesh, topology, compare_angle=60.0):
     ----------
     mesh : TriangleMesh
     topology : Topology
-        From :func:`.adjacency.face_adjacency`.
+        From :func:`..mesh.adjacency.face_adjacency`.
     compare_angle : float, degrees
         A face joins a chart of axis ``s`` when its normal is within this angle of ``s``.
 

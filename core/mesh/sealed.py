@@ -3,7 +3,7 @@
 A ray whose first hit is the back of a face started behind that face.  For
 a face of a closed piece with its normals outward, that means the ray
 started inside the piece, so a point most of whose rays do so is buried
-(:func:`.ao.buried`).  Behind an open sheet (a drape before a wall, a card)
+(:func:`..rays.ao.buried`).  Behind an open sheet (a drape before a wall, a card)
 the same back-face hits mean nothing of the kind: the point is seen round
 the sheet's edges.  So only back-face hits on sealed triangles count.
 
@@ -15,8 +15,8 @@ to its area, those of a shell with a hole to the hole's area.
 
 import numpy as np
 
-from .graph import connected_components
-from .mesh import exact_weld
+from ..arrays.graph import connected_components
+from .triangle_mesh import exact_weld
 
 #: A piece is sealed when its area-weighted normals sum to less than this fraction of its area (a closed
 #: surface 0, a hemisphere one half, a flat sheet 1; tests/bench/bench_buried.py prints the openings of real
@@ -36,7 +36,7 @@ def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):
     outside it look buried).  Both depend on the piece alone, so moving or
     rotating it, or adding other pieces, changes nothing; ``triangles`` must be
     wound counter-clockwise seen from the outside in the space of
-    ``positions`` (see :func:`.rays.world_winding` for mirrored objects).
+    ``positions`` (see :func:`..rays.ray_setup.world_winding` for mirrored objects).
 
     Parameters
     ----------

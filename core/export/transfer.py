@@ -1,17 +1,17 @@
 """Take the AO out of Blender: one texture on the user's own UV map, or per-corner colours.
 
 Both evaluate exactly what the ``Seamless AO`` node group shows (see
-:mod:`.shown`), from the baked image and the AO_X/Y/Z UVs; no ray is cast.
+:mod:`..image.shown`), from the baked image and the AO_X/Y/Z UVs; no ray is cast.
 """
 
 import numpy as np
 
-from .shown import blended_ao
-from .fill import pull_push
-from .geometry2d import closest_barycentric, cross2d
+from ..image.shown import blended_ao
+from ..image.fill import pull_push
+from ..arrays.geometry2d import closest_barycentric, cross2d
 from .packings import BY_ID, pack_channels
 from .png import encode_png
-from .raster import rasterise_triangles
+from ..atlas.raster import rasterise_triangles
 
 
 def shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength=1.0, interreflection=0.0):
@@ -25,7 +25,7 @@ def shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength=1.0, i
     triangle : (k,) int
     bary : (k, 3) float
     strength, interreflection : float, or (t,) float per triangle
-        The node's inputs (its material's), see :func:`.shown.blended_ao`.
+        The node's inputs (its material's), see :func:`..image.shown.blended_ao`.
 
     Returns
     -------

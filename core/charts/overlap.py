@@ -11,9 +11,9 @@ from typing import NamedTuple
 import numpy as np
 
 from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
-from .geometry2d import (barycentric_2d, corner_max, corner_min, line_crossing, segment_distance, separated,
+from ..arrays.geometry2d import (barycentric_2d, corner_max, corner_min, line_crossing, segment_distance, separated,
                          triangle_angles)
-from .graph import group_starts, index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
+from ..arrays.graph import group_starts, index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b, closed=False):

@@ -19,7 +19,7 @@ import os
 import pathlib
 import re
 
-from .errors import SeamlessAOError
+from ..errors import SeamlessAOError
 
 #: File types a batch reads, and what it writes for each.
 ASSET_SUFFIXES = (".blend", ".glb", ".gltf", ".obj", ".fbx", ".ply", ".stl")

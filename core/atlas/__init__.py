@@ -1,0 +1,1 @@
+"""The atlas stage: charts projected, packed into one image, and the texels that sample them.  See the map in :mod:`core`."""

@@ -1,0 +1,1 @@
+"""The charts stage: overlapping signed-axis charts, made free of folds.  See the map in :mod:`core`."""

@@ -1,0 +1,1 @@
+"""The export stage: the AO resampled onto other UV maps, packed into channels and written as PNG.  See the map in :mod:`core`."""

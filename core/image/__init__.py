@@ -1,0 +1,1 @@
+"""The image stage: the baked texels denoised and filled into the finished image.  See the map in :mod:`core`."""

@@ -1,0 +1,1 @@
+"""The mesh stage: the triangle mesh the core bakes, its edges, its size and its closed pieces.  See the map in :mod:`core`."""

@@ -1,0 +1,1 @@
+"""A bake or a batch handed to other processes, as files: nothing here touches Blender data.  See the map in :mod:`core`."""
