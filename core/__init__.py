@@ -41,6 +41,7 @@ module                              what it holds
 :mod:`.rays.ao`                     the occlusion of rays, buried points, the adaptive stop
 :mod:`.rays.targets`                what rays are cast for: texels or points
 :mod:`.rays.job`                    the rays of every target, in batches
+:mod:`.rays.cycles_rules`           what the Cycles caster can follow: every Cycles fact
 **image** (``core/image/``)
 :mod:`.image.denoise`               the edge-aware texel filter
 :mod:`.image.fill`                  the finished image (pull-push)

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 from .errors import SeamlessAOError
 from .export.packings import BY_ID as PACKINGS_BY_ID, PACKINGS
+from .rays.cycles_rules import BULK_PILOT_RAYS, CLASSIC_AO, first_unfollowed
 
 
 def _setting(default, label, description, **extra):
@@ -40,23 +41,6 @@ SIZE_MODE_ITEMS = (
     ("IMAGE_SIZE", "Image Size", "Choose the image size; the texel density is derived so that all charts fit"),
     ("DENSITY", "Texel Density", "Choose texels per scene unit; the image is made as large as needed"),
 )
-
-#: Pilot rays of each texel when a caster that bakes whole texels (Cycles) takes the rest: from inside a
-#: closed piece every ray meets its back faces, so a few tell the buried texels (core/rays/ao.py's ``buried``).
-BULK_PILOT_RAYS = 4
-
-#: What the Cycles caster cannot do: (setting, the value it needs, the sentence that says so, the value in
-#: a few words for the Ray Caster items' descriptions).
-CYCLES_NEEDS = (
-    ("falloff", "NONE", "Cycles' AO has no falloff", "no falloff"),
-    ("cone_angle", 90.0, "Cycles casts over the whole hemisphere (Cone Angle 90°)", "full hemisphere"),
-    ("distribution", "COSINE", "Cycles spreads its rays by the cosine", "cosine rays"),
-    ("ignore_backfaces", False, "Cycles' AO counts back faces", "back faces occlude"),
-    ("horizon_bias", 0.0, "Cycles has no horizon bias", "no horizon bias"),
-    ("use_ground_plane", False, "Cycles' AO sees no ground plane", "no ground plane"),
-)
-#: The settings Cycles can follow, in a few words.
-CLASSIC_AO = ", ".join(need[3] for need in CYCLES_NEEDS)
 
 #: A .blend stores an enum setting as its item's position: new items go at the end, never in between.
 CASTER_ITEMS = (
@@ -276,9 +260,9 @@ class BakeSettings(_Settings):
         return "{}, {}, {} rays".format(label, size, self.resolved().rays)
 
     def cycles_cannot_follow(self):
-        """The first ``(setting, value it needs, reason, in short)`` of :data:`CYCLES_NEEDS` these settings break,
-        or None."""
-        return next((need for need in CYCLES_NEEDS if getattr(self, need[0]) != need[1]), None)
+        """The first ``(setting, value it needs, reason, in short)`` of :data:`.rays.cycles_rules.CYCLES_NEEDS`
+        these settings break, or None."""
+        return first_unfollowed(self)
 
     def caster(self):
         """The ray caster a bake uses: ``ray_caster``, Automatic resolved (:meth:`caster_choice`)."""
@@ -286,7 +270,7 @@ class BakeSettings(_Settings):
 
     def caster_choice(self):
         """``(caster, why)``: ``ray_caster``, with ``AUTOMATIC`` resolved to ``CYCLES`` when Cycles can follow
-        every setting (:data:`CYCLES_NEEDS`) and has rays to cast (more than :data:`BULK_PILOT_RAYS` per texel),
+        every setting (:data:`.rays.cycles_rules.CYCLES_NEEDS`) and has rays to cast (more than ``BULK_PILOT_RAYS`` per texel),
         else to ``GEOMETRY_NODES``; ``why`` says so in a few words for the panel (empty for a chosen caster)."""
         if self.ray_caster != "AUTOMATIC":
             return self.ray_caster, ""

@@ -2,14 +2,11 @@
 
 import bpy
 
-from ..core.settings import CYCLES_NEEDS, PRESET_CHOOSES, QUALITY_ITEMS, item_label
+from ..core.rays.cycles_rules import NOT_FOR_CYCLES
+from ..core.settings import PRESET_CHOOSES, QUALITY_ITEMS, item_label
 from ..operators.adapters.scene_settings import automatic_caster_line
 from ..operators.ui.poll import stale_bakes
 from .text import wrapped_labels
-
-#: Settings the Cycles ray caster cannot follow or does not use: drawn inactive while it is chosen.
-NOT_FOR_CYCLES = frozenset([need[0] for need in CYCLES_NEEDS] + ["adaptive"])
-
 
 class SidebarPanel:
     """What every Seamless AO panel shares: where it lives, and a property-split column."""

@@ -12,8 +12,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .ao import buried, occlusion_sums, settle_pilot
+from .cycles_rules import BULK_PILOT_RAYS
 from .ray_setup import RayPart, pilot_rays
-from ..settings import BULK_PILOT_RAYS
 from .targets import PointTargets
 
 #: Target duration of one :meth:`AOJob.step` (seconds).

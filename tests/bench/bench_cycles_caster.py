@@ -22,7 +22,7 @@ import bpy
 from accuracy import errors, shown_seamless
 from report import bench_arguments, fresh_with_reference, seamless_bake
 
-#: "<image size>x<rays per texel>": the node casts the first core/settings.py BULK_PILOT_RAYS rays of each
+#: "<image size>x<rays per texel>": the node casts the first core/rays/cycles_rules.py BULK_PILOT_RAYS rays of each
 #: texel, Cycles the rest.  1024x64 is the bake's default.
 SETTINGS = ["256x32", "256x64", "512x32", "512x64", "1024x64"]
 CASTERS = [("GEOMETRY_NODES", "Geometry Nodes"), ("CYCLES", "Cycles")]

@@ -74,7 +74,7 @@ CYCLES_RUNS = [(size, samples) for size in (256, 512, 1024) for samples in (16, 
 #: Without the denoiser, to show what it buys (issue 9: keep it only if the numbers say it helps).
 RAW_RUNS = [(512, 16)]
 #: With the Cycles ray caster: from 16 rays, where Cycles casts at least half of each texel's rays
-#: (core/settings.py BULK_PILOT_RAYS are the node's).
+#: (core/rays/cycles_rules.py BULK_PILOT_RAYS are the node's).
 CYCLES_CASTER_RUNS = [(256, 16), (256, 32), (384, 32), (512, 16), (512, 32), (768, 32), (1024, 32)]
 #: The report's names of the kinds of Seamless AO run (the methods of its table and plot).
 OURS = "Seamless AO"

@@ -137,7 +137,7 @@ def test_the_automatic_caster_takes_cycles_where_it_can_and_the_node_where_it_ca
     rays after the pilot for Cycles to pay off (core/rays/job.py's BULK_LEAST_RAYS) the node casts them all, and
     the report says so."""
     from seamless_ao.core.rays.job import BULK_LEAST_RAYS
-    from seamless_ao.core.settings import BULK_PILOT_RAYS
+    from seamless_ao.core.rays.cycles_rules import BULK_PILOT_RAYS
     from seamless_ao.operators.adapters.casters import NodesCaster
 
     head = suzanne(1)

@@ -312,7 +312,7 @@ def test_a_box_pushed_into_another_leaves_no_dark_line_along_the_intersection(ad
     points within a texel of the intersection would blend that 0 in (a dark line: RMSE 0.11 there and
     errors down to -0.41 when nothing was done about it: tests/bench/bench_buried.py) unless the rim of the
     buried region is shaded at the crease instead.  With the Cycles caster only the pilot rays tell which
-    texels are buried (core/settings.py BULK_PILOT_RAYS)."""
+    texels are buried (core/rays/cycles_rules.py BULK_PILOT_RAYS)."""
     import meshes
 
     positions, triangles, gap = meshes.pierced_box()

@@ -3,7 +3,8 @@
 import pytest
 
 from seamless_ao.core.errors import SeamlessAOError
-from seamless_ao.core.settings import BULK_PILOT_RAYS, CASTER_ITEMS, CYCLES_NEEDS, BakeSettings
+from seamless_ao.core.rays.cycles_rules import BULK_PILOT_RAYS, CYCLES_NEEDS
+from seamless_ao.core.settings import CASTER_ITEMS, BakeSettings
 
 
 @pytest.mark.parametrize("name, value", [("falloff", "LINEAR"), ("cone_angle", 60.0), ("distribution", "UNIFORM"),

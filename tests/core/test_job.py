@@ -11,7 +11,8 @@ from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.atlas.raster import texel_geometry
 from seamless_ao.core.rays.ray_setup import BVHCaster, ray_part
-from seamless_ao.core.settings import BULK_PILOT_RAYS, BakeSettings
+from seamless_ao.core.rays.cycles_rules import BULK_PILOT_RAYS
+from seamless_ao.core.settings import BakeSettings
 from seamless_ao.core.rays.targets import MAX_RAY_HALVINGS, RING_RAY_HALVINGS, TexelTargets, ray_shares
 
 
