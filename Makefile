@@ -59,11 +59,11 @@ help:
 setup: .venv/$(BLENDER)/.installed
 
 demo: .venv/5.0/.installed
-	$(call venv_python,5.0) operators/standalone/launch.py demo --output-dir out
+	$(call venv_python,5.0) operators/launchers/launch.py demo --output-dir out
 
 # The batch command without a Blender install: make batch ARGS="assets/ --output-dir baked/ --jobs 2"
 batch: .venv/5.0/.installed
-	$(call venv_python,5.0) operators/standalone/launch.py command batch $(ARGS)
+	$(call venv_python,5.0) operators/launchers/launch.py command batch $(ARGS)
 
 # Blenders whose Python this machine has, and those it lacks (each is said; under CI a lack is an error).
 AVAILABLE = $(foreach v,$(BLENDERS),$(if $(call find_python,$(PYVER_$(v))),$(v)))

@@ -9,12 +9,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .mesh.adjacency import Topology, face_adjacency
 from .atlas.chart_atlas import Atlas, expected_density, pack_charts
+from .atlas.raster import Texels, rasterise
 from .charts.clustering import Charts, cut_long_charts, make_injective, signed_axis_clusters
 from .errors import SeamlessAOError
+from .mesh.adjacency import Topology, face_adjacency
 from .mesh.triangle_mesh import TriangleMesh, require_faces
-from .atlas.raster import Texels, rasterise
 
 #: Distant parts of one chart must stay this many texels apart (bilinear reads 1).
 SEPARATION_TEXELS = 3.0

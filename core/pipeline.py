@@ -19,16 +19,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .rays.ao import noise_estimate
+from .atlas.viewport_uv import surface_uv
 from .budget import check_budget, planned_size
 from .image.denoise import denoise
 from .image.fill import texel_image
-from .rays.job import AOJob
 from .layout import Layout, build_layout
+from .rays.ao import noise_estimate
+from .rays.job import AOJob
 from .rays.ray_setup import BVHCaster, ray_part
-from .settings import BakeSettings
 from .rays.targets import TexelTargets
-from .atlas.viewport_uv import surface_uv
+from .settings import BakeSettings
 
 
 @dataclass

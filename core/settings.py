@@ -270,8 +270,8 @@ class BakeSettings(_Settings):
 
     def caster_choice(self):
         """``(caster, why)``: ``ray_caster``, with ``AUTOMATIC`` resolved to ``CYCLES`` when Cycles can follow
-        every setting (:data:`.rays.cycles_rules.CYCLES_NEEDS`) and has rays to cast (more than ``BULK_PILOT_RAYS`` per texel),
-        else to ``GEOMETRY_NODES``; ``why`` says so in a few words for the panel (empty for a chosen caster)."""
+        every setting (:data:`.rays.cycles_rules.CYCLES_NEEDS`) and has rays to cast (more than
+        ``BULK_PILOT_RAYS`` per texel), else to ``GEOMETRY_NODES``; ``why`` says so in a few words for the panel (empty for a chosen caster)."""
         if self.ray_caster != "AUTOMATIC":
             return self.ray_caster, ""
         unfollowed = self.cycles_cannot_follow()

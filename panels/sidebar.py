@@ -5,7 +5,7 @@ import bpy
 from ..core.rays.cycles_rules import NOT_FOR_CYCLES
 from ..core.settings import PRESET_CHOOSES, QUALITY_ITEMS, item_label
 from ..operators.adapters.scene_settings import automatic_caster_line
-from ..operators.ui.poll import stale_bakes
+from ..operators.poll import stale_bakes
 from .text import wrapped_labels
 
 class SidebarPanel:

@@ -1,1 +1,4 @@
-"""Helpers over index and geometry arrays that every stage uses.  See the map in :mod:`core`."""
+"""Helpers over index and geometry arrays that every stage uses.
+
+See the map of every module in :mod:`core`.
+"""

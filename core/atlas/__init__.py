@@ -1,1 +1,4 @@
-"""The atlas stage: charts projected, packed into one image, and the texels that sample them.  See the map in :mod:`core`."""
+"""The atlas stage: charts projected, packed into one image, and the texels that sample them.
+
+See the map of every module in :mod:`core`.
+"""

@@ -15,11 +15,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..arrays.geometry2d import group_boxes
 from ..charts.clustering import project
-from .cover import chart_covers
 from ..errors import SeamlessAOError
 from ..mesh.extent import mesh_size
-from ..arrays.geometry2d import group_boxes
+from .cover import chart_covers
 from .packing import (MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density,
                       xatlas_padding)
 

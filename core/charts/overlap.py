@@ -10,10 +10,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
 from ..arrays.geometry2d import (barycentric_2d, corner_max, corner_min, line_crossing, segment_distance, separated,
-                         triangle_angles)
+                                 triangle_angles)
 from ..arrays.graph import group_starts, index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
+from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b, closed=False):

@@ -6,12 +6,12 @@ Both evaluate exactly what the ``Seamless AO`` node group shows (see
 
 import numpy as np
 
-from ..image.shown import blended_ao
-from ..image.fill import pull_push
 from ..arrays.geometry2d import closest_barycentric, cross2d
+from ..atlas.raster import rasterise_triangles
+from ..image.fill import pull_push
+from ..image.shown import blended_ao
 from .packings import BY_ID, pack_channels
 from .png import encode_png
-from ..atlas.raster import rasterise_triangles
 
 
 def shown_at(ao_image, layer_uv, corner_normals, triangle, bary, strength=1.0, interreflection=0.0):

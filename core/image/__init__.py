@@ -1,1 +1,4 @@
-"""The image stage: the baked texels denoised and filled into the finished image.  See the map in :mod:`core`."""
+"""The image stage: the baked texels denoised and filled into the finished image.
+
+See the map of every module in :mod:`core`.
+"""

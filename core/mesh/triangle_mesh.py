@@ -10,9 +10,9 @@ from functools import cached_property
 
 import numpy as np
 
+from ..arrays.graph import connected_components, group_starts, scatter_rows, sort_order
 from ..errors import SeamlessAOError
 from .extent import box_size, mesh_size, robust_box
-from ..arrays.graph import connected_components, group_starts, scatter_rows, sort_order
 
 
 #: Triangles with less area than this times the squared mesh size are degenerate.

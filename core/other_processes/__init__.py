@@ -1,1 +1,4 @@
-"""A bake or a batch handed to other processes, as files: nothing here touches Blender data.  See the map in :mod:`core`."""
+"""A bake or a batch handed to other processes, as files: nothing here touches Blender data.
+
+See the map of every module in :mod:`core`.
+"""

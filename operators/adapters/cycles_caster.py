@@ -24,9 +24,9 @@ user's scenes and render settings are not touched.
 import bpy
 import numpy as np
 
-from ...core.rays.ao import ray_origins
 from ...core.errors import SeamlessAOError
 from ...core.keys import TEMP_PREFIX
+from ...core.rays.ao import ray_origins
 from .cycles_device import cycles_device
 from .mesh_data import mesh_from_triangles
 

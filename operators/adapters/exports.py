@@ -15,12 +15,12 @@ import bpy
 import numpy as np
 
 from ...core.errors import SeamlessAOError
-from ...core.keys import AO_LAYERS, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_KEY, GLTF_GROUP, IMAGE_KEY, OURS_KEY
-from ...core.mesh.triangle_mesh import TriangleMesh
 from ...core.export.packings import BY_ID
-from ...core.settings import ExportSettings
 from ...core.export.transfer import corner_values, resample_to_uv, resampled_png, vertex_average
 from ...core.export.uv_fitness import uv_fitness
+from ...core.keys import AO_LAYERS, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_KEY, GLTF_GROUP, IMAGE_KEY, OURS_KEY
+from ...core.mesh.triangle_mesh import TriangleMesh
+from ...core.settings import ExportSettings
 from ...shaders import material as material_nodes
 from ...shaders.gltf_nodes import hook_gltf_occlusion
 from . import stack

@@ -139,8 +139,8 @@ def read_mesh_arrays(mesh):
 
 
 def read_triangles(mesh):
-    """A :class:`~..core.mesh.triangle_mesh.TriangleMesh` of a ``bpy.types.Mesh`` (:func:`read_mesh_arrays`) and the loop
-    of each triangle corner."""
+    """A :class:`~..core.mesh.triangle_mesh.TriangleMesh` of a ``bpy.types.Mesh`` (:func:`read_mesh_arrays`) and
+    the loop of each triangle corner."""
     arrays, loops = read_mesh_arrays(mesh)
     return arrays.mesh(), loops
 

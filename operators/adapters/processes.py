@@ -16,11 +16,11 @@ from .cycles_device import environment_entry
 PACKAGE_ROOT = pathlib.Path(__file__).resolve().parents[2]
 #: What such a process runs: this package loaded from its folder under a name of its own (so an installed
 #: copy is never registered twice), then the entry point named first in its arguments.
-LAUNCHER = PACKAGE_ROOT / "operators" / "standalone" / "launch.py"
+LAUNCHER = PACKAGE_ROOT / "operators" / "launchers" / "launch.py"
 
 
 def process_command(*arguments):
-    """The command line that runs :mod:`..standalone.launch` with ``arguments``: background Blender with
+    """The command line that runs :mod:`..launchers.launch` with ``arguments``: background Blender with
     factory settings and no auto-run scripts, or this Python when ``bpy`` is the module."""
     binary = bpy.app.binary_path
     return launch_command(binary if binary and not os.path.basename(binary).startswith("python") else sys.executable,
@@ -30,7 +30,7 @@ def process_command(*arguments):
 def process_environment(scratch):
     """The process's environment: this process's, with Blender's user folders moved to ``scratch`` and this
     process's ``sys.path`` folders (where Blender keeps the extension's wheels) in ``SEAMLESS_AO_PATHS``, which
-    :mod:`..standalone.launch` adds to the process's.
+    :mod:`..launchers.launch` adds to the process's.
 
     The process has factory settings, in which no extension is enabled; were the user's extension folder its
     own, Blender's wheel upkeep (run by any factory reset) would delete the wheels of every extension it

@@ -2,8 +2,8 @@
 the core's :class:`~...core.settings.BakeSettings` and ``ExportSettings``."""
 
 from ...core.errors import SeamlessAOError
-from ...core.settings import (CASTER_ITEMS, BakeSettings, ExportSettings, export_fields, implied_quality,
-                              item_label, setting_fields)
+from ...core.settings import (CASTER_ITEMS, BakeSettings, ExportSettings, export_fields, implied_quality, item_label,
+                              setting_fields)
 
 
 def settings_from(source, overrides=None):

@@ -20,13 +20,13 @@ import time
 import bpy
 import numpy as np
 
+from ...core.atlas.viewport_uv import stands_off
 from ...core.errors import BakeCancelled, SeamlessAOError
-from ...core.other_processes.handoff import outcome_numbers
 from ...core.keys import IMAGE_KEY
+from ...core.other_processes.handoff import outcome_numbers
 from ...core.pipeline import BakePipeline
 from ...core.rays.ray_setup import world_reach
 from ...core.settings import BakeSettings, caster_words
-from ...core.atlas.viewport_uv import stands_off
 from ..background.client import BackgroundBake
 from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
@@ -180,8 +180,8 @@ class BakeSession:
 
     def _read_meshes(self):
         """The baked objects and, if asked, the scene geometry near each, all as they render; returns the
-        meshes (:class:`~...core.mesh.triangle_mesh.MeshArrays`: a background bake works out the rest in its own process),
-        the :class:`BakedObject` of each and each one's occluders (world geometry)."""
+        meshes (:class:`~...core.mesh.triangle_mesh.MeshArrays`: a background bake works out the rest in its own
+        process), the :class:`BakedObject` of each and each one's occluders (world geometry)."""
         meshes, baked, occluders = [], [], []
         users = {}
         for ob in self.objects:

@@ -12,9 +12,9 @@ import os
 import bpy
 import numpy as np
 
+from ...core.export.png import encode_png
 from ...core.keys import (AO_LAYERS, GROUP_VERSION, HELPER_KEY, IMAGE_KEY, MATERIAL_KEY, OURS_KEY, SAVE_COPY,
                           STACK_MODIFIER, VERSION_KEY)
-from ...core.export.png import encode_png
 from ...shaders import material as material_nodes
 from ...shaders.node_group import find_node_group, node_group as build_node_group
 from ...shaders.stack_nodes import stack_group

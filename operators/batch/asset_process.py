@@ -28,7 +28,7 @@ USER_FOLDER_VARIABLES = ("BLENDER_USER_RESOURCES", "BLENDER_USER_CONFIG", "BLEND
 BLENDER_VARIABLE = "SEAMLESS_AO_BLENDER"
 PACKAGE_VARIABLE = "SEAMLESS_AO_PACKAGE"
 #: Where the launcher sits in the package folder.
-LAUNCHER_PATH = ("operators", "standalone", "launch.py")
+LAUNCHER_PATH = ("operators", "launchers", "launch.py")
 
 
 def launch_command(binary, launcher, *arguments):
@@ -82,7 +82,8 @@ def read_record(job, returncode, log_path):
 
 
 def partial_outputs(output):
-    """What stopped workers left half-written for ``output`` (``NAME.partPID.EXT``, see core/other_processes/batch_plan.py)."""
+    """What stopped workers left half-written for ``output`` (``NAME.partPID.EXT``, see
+    core/other_processes/batch_plan.py)."""
     extension = os.path.splitext(str(output))[1]
     return glob.glob(glob.escape(str(output)) + ".part[0-9]*" + glob.escape(extension))
 

@@ -18,8 +18,8 @@ batch does.
 import os
 import uuid
 
-from ...core.other_processes.batch_plan import AssetRecord
 from ...core.errors import SeamlessAOError
+from ...core.other_processes.batch_plan import AssetRecord
 from . import asset_process
 from .asset_process import failed_record, partial_outputs
 

@@ -18,9 +18,9 @@ import sys
 import tempfile
 import time
 
-from ...core.other_processes.batch_plan import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result, progress_line,
-                            remove_partial_output, settings_digest, write_stamp)
 from ...core.errors import SeamlessAOError
+from ...core.other_processes.batch_plan import (AssetRecord, drop_outputs, find_assets, plan_outputs, previous_result,
+                                                progress_line, remove_partial_output, settings_digest, write_stamp)
 from ...core.settings import BakeSettings, GltfSettings, gltf_fields
 from ..adapters.processes import process_command, process_environment
 from .asset_process import read_record, timed_out_record, write_worker_job

@@ -25,9 +25,9 @@ import addon_utils
 import bpy
 import numpy as np
 
-from ...core.other_processes.batch_plan import AssetRecord, partial_output
 from ...core.errors import SeamlessAOError
 from ...core.keys import AO_LAYERS, AO_UV, COLOR_ATTRIBUTE, GLTF_NODES
+from ...core.other_processes.batch_plan import AssetRecord, partial_output
 from ...core.settings import RESAMPLE_FIELDS, BakeSettings, GltfSettings, gltf_fields
 from ...shaders import material as material_nodes
 from ..adapters.exports import own_uv_map, render_active_uv, resample, to_color_attribute, uv_map_fitness

@@ -9,7 +9,7 @@ from blender_checks import image_array, material_snapshot, mesh_snapshot
 from blender_scenes import add_object, suzanne
 from package import seamless_ao
 from seamless_ao.core.errors import BakeCancelled, SeamlessAOError
-from seamless_ao.operators.ui.poll import selection_problem
+from seamless_ao.operators.poll import selection_problem
 from seamless_ao.operators.adapters.writes import Transaction
 from seamless_ao.shaders.material import enable_nodes
 

@@ -5,7 +5,7 @@ import pytest
 
 from package import ROOT
 from seamless_ao.core.settings import RESAMPLE_FIELDS, export_fields, setting_fields
-from seamless_ao.operators.ui.command_line import build_parser, given_options, option_name
+from seamless_ao.operators.launchers.command_line import build_parser, given_options, option_name
 
 
 def other_value(f):

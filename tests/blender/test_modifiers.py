@@ -206,7 +206,7 @@ def test_the_viewport_shows_the_ao_whatever_its_subdivision_level(viewport, rend
     shown_data = ob.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     assert STALE_ATTRIBUTE not in shown_data.attributes
     viewport_faces = len(shown_data.polygons)
-    from seamless_ao.operators.ui.poll import stale_bakes
+    from seamless_ao.operators.poll import stale_bakes
     bpy.context.view_layer.objects.active = ob
     ob.select_set(True)
     assert stale_bakes(bpy.context) == []

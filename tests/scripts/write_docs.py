@@ -45,7 +45,7 @@ def number(value):
 def settings_page():
     from package import seamless_ao
     from seamless_ao.core.settings import export_fields, gltf_fields, setting_fields
-    from seamless_ao.operators.ui.command_line import option_name
+    from seamless_ao.operators.launchers.command_line import option_name
 
     def default(f):
         return '`""`' if f.default == "" else "`{}`".format(f.default)

@@ -4,8 +4,8 @@ import bpy
 import numpy as np
 
 import package  # noqa: F401  (imports the add-on as ``seamless_ao``)
-from seamless_ao.operators.standalone.demo_scenes import (add_object, cornell_box, demo_scene,  # noqa: F401
-                                                          mesh_from_faces, sphere_over_plane, suzanne)
+from seamless_ao.operators.launchers.demo_scenes import (add_object, cornell_box, demo_scene,  # noqa: F401
+                                                           mesh_from_faces, sphere_over_plane, suzanne)
 
 
 def mesh_from_arrays(name, positions, triangles, smooth=False):

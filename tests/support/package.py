@@ -25,7 +25,7 @@ import bpy  # noqa: E402  (must come after the environment is set)
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "tests" / "scripts"
 #: The product's own launcher: the ``seamless_ao`` command line, the demo and batch workers without Blender.
-LAUNCHER = ROOT / "operators" / "standalone" / "launch.py"
+LAUNCHER = ROOT / "operators" / "launchers" / "launch.py"
 NAME = "seamless_ao"
 
 
@@ -38,7 +38,7 @@ def load_package(name=NAME):
         for module_name in [n for n in sys.modules if n == installed or n.startswith(installed + ".")]:
             sys.modules[name + module_name[len(installed):]] = sys.modules[module_name]
         return sys.modules[name]
-    # the product's own loader (operators/standalone/launch.py), itself loaded by path: it is not in a package yet
+    # the product's own loader (operators/launchers/launch.py), itself loaded by path: it is not in a package yet
     spec = importlib.util.spec_from_file_location("seamless_ao_launch", LAUNCHER)
     launch = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(launch)

@@ -9,8 +9,8 @@ scene's value for that call.
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
-from ...core.settings import export_fields, setting_fields
-from ..adapters.preview import set_preview
+from ..core.settings import export_fields, setting_fields
+from .adapters.preview import set_preview
 from .poll import has_bake
 
 

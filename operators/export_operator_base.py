@@ -1,7 +1,7 @@
 """What the two export operators share: a baked mesh must be selected (``poll``), settings the caller
 did not set come from the scene's Export panel (``invoke``), and an export error is one sentence."""
 
-from ...core.errors import SeamlessAOError
+from ..core.errors import SeamlessAOError
 from .poll import baked_selection_problem, poll_explained
 from .properties import fill_from_scene
 

@@ -1,6 +1,6 @@
 """`make demo`: bake the built-in demo scene headless and write its outputs.
 
-    .venv/5.0/bin/python operators/standalone/launch.py demo --output-dir out [--rays 64] [--image-size 1024]
+    .venv/5.0/bin/python operators/launchers/launch.py demo --output-dir out [--rays 64] [--image-size 1024]
 
 Builds the thesis' test scenes (a Cornell box with two blocks, a sphere
 hovering over a plane, a subdivided Suzanne), bakes them together into one

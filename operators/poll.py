@@ -1,6 +1,6 @@
 """What the operators' ``poll`` asks: which objects a click would use, and why nothing can be done now."""
 
-from ...core.keys import AO_LAYERS, HELPER_KEY, IMAGE_KEY, STALE_ATTRIBUTE
+from ..core.keys import AO_LAYERS, HELPER_KEY, IMAGE_KEY, STALE_ATTRIBUTE
 
 
 def target_objects(context):

@@ -2,8 +2,8 @@
 
 import bpy
 
-from ...core.settings import RESAMPLE_FIELDS
-from ..adapters.exports import resample
+from ..core.settings import RESAMPLE_FIELDS
+from .adapters.exports import resample
 from .export_operator_base import ExportOperator
 from .poll import baked_targets
 from .properties import export_annotations

@@ -2,7 +2,7 @@
 
 import bpy
 
-from ..adapters.clearing import clear
+from .adapters.clearing import clear
 from .poll import baked_selection_problem, poll_explained, target_objects
 
 

@@ -12,9 +12,9 @@ import traceback
 
 import bpy
 
-from ...core.errors import BakeCancelled, SeamlessAOError
-from ..adapters.scene_settings import settings_from
-from ..adapters.session import BakeSession
+from ..core.errors import BakeCancelled, SeamlessAOError
+from .adapters.scene_settings import settings_from
+from .adapters.session import BakeSession
 from .poll import poll_explained, selection_problem, target_objects
 from .properties import setting_annotations
 

@@ -1,10 +1,10 @@
 """Run Seamless AO in a process of its own, from this folder, with no install.
 
-    python operators/standalone/launch.py command [FILE.blend] ARGS...   # = blender -b [FILE] --command seamless_ao ARGS
-    python operators/standalone/launch.py demo [--output-dir out] ...    # make demo
-    python operators/standalone/launch.py worker JOB.json                # one batch worker (operators/batch/)
-    python operators/standalone/launch.py bake-worker FOLDER             # a window's bake (operators/background/)
-    blender --background --factory-startup --python operators/standalone/launch.py -- worker JOB.json
+    python operators/launchers/launch.py command [FILE.blend] ARGS...   # = blender -b [FILE] --command seamless_ao ARGS
+    python operators/launchers/launch.py demo [--output-dir out] ...    # make demo
+    python operators/launchers/launch.py worker JOB.json                # one batch worker (operators/batch/)
+    python operators/launchers/launch.py bake-worker FOLDER             # a window's bake (operators/background/)
+    blender --background --factory-startup --python operators/launchers/launch.py -- worker JOB.json
 
 ``python`` is one with the ``bpy`` module (the virtualenvs of ``make``), or
 Blender itself runs this file.  It loads the package from the repository (or
@@ -28,7 +28,7 @@ import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 NAME = "seamless_ao_standalone"
-ENTRY_POINTS = {"command": "operators.standalone.command", "demo": "operators.standalone.demo",
+ENTRY_POINTS = {"command": "operators.launchers.command", "demo": "operators.launchers.demo",
                 "worker": "operators.batch.worker", "bake-worker": "operators.background.bake_worker"}
 #: The entry points that run with the add-on registered, as Blender registers it at start-up (before a file).
 REGISTERED = {"command", "demo"}

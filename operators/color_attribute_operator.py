@@ -2,9 +2,9 @@
 
 import bpy
 
-from ...core.keys import COLOR_ATTRIBUTE
-from ...core.settings import COLOR_FIELDS
-from ..adapters.exports import to_color_attribute
+from ..core.keys import COLOR_ATTRIBUTE
+from ..core.settings import COLOR_FIELDS
+from .adapters.exports import to_color_attribute
 from .export_operator_base import ExportOperator
 from .poll import baked_targets
 from .properties import export_annotations
