@@ -49,8 +49,8 @@ CASTER_ITEMS = (
     ("CYCLES", "Cycles", "Geometry Nodes for each texel's first {} rays and to find the creases, then Cycles' AO "
      "bake on all cores for the rest, with no adaptive stop (faster in closed rooms and on large scans; classic AO "
      "only: {})".format(BULK_PILOT_RAYS, CLASSIC_AO)),
-    ("AUTOMATIC", "Automatic", "Cycles when the settings are classic AO ({}) and there are more than {} rays per "
-     "texel, Geometry Nodes otherwise".format(CLASSIC_AO, BULK_PILOT_RAYS)),
+    ("AUTOMATIC", "Automatic", "Cycles when it is enabled, the settings are classic AO ({}) and there are more "
+     "than {} rays per texel; Geometry Nodes otherwise".format(CLASSIC_AO, BULK_PILOT_RAYS)),
 )
 
 #: What each Quality preset bakes with: ``(image size, rays per texel)``.  Fixed settings for now, not yet chosen
@@ -264,23 +264,25 @@ class BakeSettings(_Settings):
         these settings break, or None."""
         return first_unfollowed(self)
 
-    def caster(self):
+    def caster(self, cycles_enabled=True):
         """The ray caster a bake uses: ``ray_caster``, Automatic resolved (:meth:`caster_choice`)."""
-        return self.caster_choice()[0]
+        return self.caster_choice(cycles_enabled)[0]
 
-    def caster_choice(self):
-        """``(caster, why)``: ``ray_caster``, with ``AUTOMATIC`` resolved to ``CYCLES`` when Cycles can follow
-        every setting (:data:`.rays.cycles_rules.CYCLES_NEEDS`) and has rays to cast (more than
-        ``BULK_PILOT_RAYS`` per texel), else to ``GEOMETRY_NODES``; ``why`` says so in a few words for the panel (empty for a chosen caster)."""
+    def caster_choice(self, cycles_enabled=True):
+        """``(caster, why)``: ``ray_caster``, with ``AUTOMATIC`` resolved to ``CYCLES`` when Cycles is enabled in
+        this Blender (``cycles_enabled``), can follow every setting (:data:`.rays.cycles_rules.CYCLES_NEEDS`)
+        and has rays to cast (more than ``BULK_PILOT_RAYS`` per texel), else to ``GEOMETRY_NODES``; ``why`` says
+        so in a few words for the panel (empty for a chosen caster)."""
         if self.ray_caster != "AUTOMATIC":
             return self.ray_caster, ""
+        if not cycles_enabled:
+            return "GEOMETRY_NODES", "Cycles is not enabled in this Blender"
         unfollowed = self.cycles_cannot_follow()
         if unfollowed:
             return "GEOMETRY_NODES", unfollowed[2]
         if self.resolved().rays <= BULK_PILOT_RAYS:
             return "GEOMETRY_NODES", "the node casts each texel's first {} rays itself".format(BULK_PILOT_RAYS)
         return "CYCLES", "all but each texel's first {} rays".format(BULK_PILOT_RAYS)
-
 
 PACKING_ITEMS = tuple((packing.id, packing.label, packing.description) for packing in PACKINGS)
 

@@ -20,7 +20,7 @@ import numpy as np
 from ...core.keys import TEMP_PREFIX
 from ...core.rays.ray_setup import BVHCaster, RayCaster
 from ...shaders.raycast_nodes import raycast_group
-from .cycles_caster import CyclesAmbientOcclusion
+from .cycles_caster import CyclesAmbientOcclusion, cycles_enabled
 from .mesh_data import mesh_from_triangles
 
 
@@ -125,8 +125,8 @@ def free_casters(casters):
 def caster_maker(settings):
     """What makes a bake's casters, ``(positions, triangles, sealed) -> caster``: the Geometry Nodes caster,
     core's Python loop over mathutils' BVH, or the Cycles caster (:mod:`.cycles_caster`), as
-    ``settings.caster()`` says (``ray_caster``, Automatic resolved)."""
-    caster = settings.caster()
+    ``settings.caster()`` says (``ray_caster``, Automatic resolved: never to Cycles where it is not enabled)."""
+    caster = settings.caster(cycles_enabled())
     if caster == "CYCLES":
         return CyclesCaster
     return BVHCaster if caster == "PYTHON_BVH" else NodesCaster

@@ -40,6 +40,12 @@ HIDDEN_FROM = ("visible_diffuse", "visible_glossy", "visible_transmission",
                "visible_volume_scatter", "visible_shadow")
 
 
+def cycles_enabled():
+    """Whether the Cycles render engine is enabled in this Blender (its add-on registered; a user may turn it
+    off in the Preferences)."""
+    return hasattr(bpy.types.Scene, "cycles")
+
+
 def texel_triangles(origins, normals, geometric, size):
     """One small triangle per texel, in the plane of its shading normal, wound to face it: a flat
     triangle's normal is the one Cycles shades with, so the texel's hemisphere needs no custom normals
@@ -90,7 +96,7 @@ class CyclesAmbientOcclusion:
         count = len(points)
         if not count:
             return np.zeros(0)
-        if not hasattr(self.scene, "cycles"):
+        if not cycles_enabled():
             raise SeamlessAOError("The Cycles ray caster needs the Cycles render engine, which is not enabled "
                                   "in this Blender; enable it, or choose the Geometry Nodes caster.")
         origins, geometric = ray_origins(points, normals, geometric, params.offset)

@@ -4,6 +4,7 @@ the core's :class:`~...core.settings.BakeSettings` and ``ExportSettings``."""
 from ...core.errors import SeamlessAOError
 from ...core.settings import (CASTER_ITEMS, BakeSettings, ExportSettings, export_fields, implied_quality, item_label,
                               setting_fields)
+from .cycles_caster import cycles_enabled
 
 
 def settings_from(source, overrides=None):
@@ -25,7 +26,7 @@ def automatic_caster_line(source):
     if source.ray_caster != "AUTOMATIC":
         return None
     try:
-        caster, why = settings_from(source).caster_choice()
+        caster, why = settings_from(source).caster_choice(cycles_enabled())
     except SeamlessAOError:
         return None
     label = item_label(CASTER_ITEMS, caster)

@@ -30,6 +30,7 @@ from ...core.settings import BakeSettings, caster_words
 from ..background.client import BackgroundBake
 from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
+from .cycles_caster import cycles_enabled
 from .mesh_data import EvaluatedCorners, read_object, render_evaluation, scene_occluders, world_boxes
 from .scene_settings import settings_from
 from .writes import Transaction, corner_uv, image_file_path, save_image_file
@@ -149,8 +150,13 @@ class BakeSession:
         return shown
 
     def _steps_in_background(self, meshes, occluders):
-        """The pipeline in a process of its own (:mod:`..background.client`); returns its outcome."""
-        self.process = BackgroundBake(meshes, self.matrices, occluders, self.settings, self._shown())
+        """The pipeline in a process of its own (:mod:`..background.client`); returns its outcome.  Ray Caster
+        Automatic is resolved here, where the user may have turned Cycles off (the process starts from factory
+        settings)."""
+        settings = self.settings
+        if settings.ray_caster == "AUTOMATIC" and not cycles_enabled():
+            settings = dataclasses.replace(settings, ray_caster="GEOMETRY_NODES")
+        self.process = BackgroundBake(meshes, self.matrices, occluders, settings, self._shown())
         while (state := self.process.poll()) is not None:
             yield state
         return self.process.outcome()

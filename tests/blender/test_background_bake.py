@@ -72,6 +72,22 @@ def test_a_background_bake_writes_what_a_bake_here_writes(addon, fresh_scene):
     assert all(np.array_equal(a, b) for a, b in zip(uv_here, uv_there))
 
 
+
+def test_with_cycles_turned_off_here_the_background_process_bakes_with_the_node_too(addon, fresh_scene):
+    """The process starts from factory settings, where Cycles is on: Ray Caster Automatic is resolved in the
+    window, where the user turned it off, so both say the same caster."""
+    import addon_utils
+
+    objects = suzanne_on_a_plane()
+    addon_utils.disable("cycles", default_set=False)
+    try:
+        session = BakeSession(objects, SETTINGS.replace(ray_caster="AUTOMATIC"), background=True)
+        for _ in session.steps():
+            pass
+    finally:
+        addon_utils.enable("cycles", default_set=False)
+    assert session.report.caster == "GEOMETRY_NODES"
+
 def test_a_background_bake_stopped_midway_ends_its_process_and_writes_nothing(addon, fresh_scene):
     objects = suzanne_on_a_plane()
     before = datablocks()

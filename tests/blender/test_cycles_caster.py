@@ -158,6 +158,33 @@ def test_the_automatic_caster_takes_cycles_where_it_can_and_the_node_where_it_ca
         [head], image_size=256, rays=32).summary()
 
 
+
+def test_with_cycles_turned_off_automatic_bakes_with_the_node_and_a_chosen_cycles_says_why(addon, fresh_scene):
+    """Cycles' add-on disabled in the Preferences: Ray Caster Automatic bakes with the node and the panel says
+    why; the Cycles caster chosen by name refuses with a sentence, and leaves the mesh as it was."""
+    import addon_utils
+    import bpy
+
+    from seamless_ao.core.errors import SeamlessAOError
+    from seamless_ao.operators.adapters.casters import NodesCaster
+    from seamless_ao.operators.adapters.scene_settings import automatic_caster_line
+
+    head = suzanne(1)
+    layers = [uv.name for uv in head.data.uv_layers]
+    addon_utils.disable("cycles", default_set=False)
+    try:
+        assert not hasattr(bpy.types.Scene, "cycles")
+        assert automatic_caster_line(bpy.context.scene.seamless_ao) == (
+            "Automatic: Geometry Nodes, Cycles is not enabled in this Blender")
+        assert addon.bake([head], image_size=256, rays=16).caster == NodesCaster.name
+        addon.clear([head])
+        with pytest.raises(SeamlessAOError, match="needs the Cycles render engine, which is not enabled"):
+            addon.bake([head], image_size=256, rays=16, ray_caster="CYCLES")
+        assert [uv.name for uv in head.data.uv_layers] == layers
+    finally:
+        addon_utils.enable("cycles", default_set=False)
+    assert hasattr(bpy.types.Scene, "cycles")
+
 def test_a_ray_caster_saved_before_automatic_existed_reads_back_as_it_was_chosen(addon, fresh_scene):
     """A .blend stores the Ray Caster as its item's position: those of Geometry Nodes, Python BVH and Cycles,
     as files saved before Automatic was added hold them, still read as those casters; a scene that never set

@@ -27,6 +27,14 @@ def test_the_automatic_caster_is_cycles_for_classic_ao_with_rays_beyond_the_pilo
         assert BakeSettings.from_kwargs(ray_caster=chosen, rays=1).caster() == chosen
 
 
+
+def test_the_automatic_caster_never_takes_cycles_where_cycles_is_not_enabled():
+    """A user may turn Cycles off in the Preferences: Automatic then takes the node and says why; a chosen
+    caster stays chosen (the Cycles caster then says it needs Cycles)."""
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC").caster_choice(cycles_enabled=False) == (
+        "GEOMETRY_NODES", "Cycles is not enabled in this Blender")
+    assert BakeSettings.from_kwargs(ray_caster="CYCLES").caster(cycles_enabled=False) == "CYCLES"
+
 def test_the_cycles_and_automatic_items_name_every_setting_cycles_needs():
     """Their descriptions read off CYCLES_NEEDS: a setting added there shows in both (the Cycles item once
     left out horizon bias)."""
