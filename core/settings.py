@@ -264,8 +264,8 @@ class BakeSettings(_Settings):
         these settings break, or None."""
         return first_unfollowed(self)
 
-    def caster(self, cycles_enabled=True):
-        """The ray caster a bake uses: ``ray_caster``, Automatic resolved (:meth:`caster_choice`)."""
+    def caster_name(self, cycles_enabled=True):
+        """The name of the ray caster a bake uses: ``ray_caster``, Automatic resolved (:meth:`caster_choice`)."""
         return self.caster_choice(cycles_enabled)[0]
 
     def caster_choice(self, cycles_enabled=True):

@@ -3,7 +3,7 @@
 A ray whose first hit is the back of a face started behind that face.  For
 a face of a closed piece with its normals outward, that means the ray
 started inside the piece, so a point most of whose rays do so is buried
-(:func:`..rays.ao.buried`).  Behind an open sheet (a drape before a wall, a card)
+(:func:`..rays.ao.buried_by_vote`).  Behind an open sheet (a drape before a wall, a card)
 the same back-face hits mean nothing of the kind: the point is seen round
 the sheet's edges.  So only back-face hits on sealed triangles count.
 

@@ -95,7 +95,7 @@ def cast_with_options(caster, origins, directions, params):
     Returns
     -------
     distance : (n,) float64, ``inf`` for rays that hit nothing in range
-    behind : (n,) bool, the ray's hit is the back of a sealed face (see :func:`buried`)
+    behind : (n,) bool, the ray's hit is the back of a sealed face (see :func:`buried_by_vote`)
     """
     distance, facing, sealed = caster.cast(origins, directions, params.max_distance)
     facing, sealed = np.array(facing, dtype=np.float64), np.array(sealed, dtype=bool)
@@ -175,7 +175,7 @@ def occlusion_sums(points, normals, geometric, texel_ids, ray_indices, params, c
     return occlusion.sum(axis=1), behind.reshape(len(points), count).sum(axis=1)
 
 
-def buried(behind, rays, params):
+def buried_by_vote(behind, rays, params):
     """Points inside a closed piece: most of their rays hit the back of a sealed face.
 
     A texel whose surface point lies inside another piece (where two shells

@@ -6,7 +6,7 @@ choice, the ray job and the panel read these facts from here.
 """
 
 #: Pilot rays of each texel when a caster that bakes whole texels (Cycles) takes the rest: from inside a
-#: closed piece every ray meets its back faces, so a few tell the buried texels (core/rays/ao.py's ``buried``).
+#: closed piece every ray meets its back faces, so a few tell the buried texels (core/rays/ao.py's ``buried_by_vote``).
 BULK_PILOT_RAYS = 4
 
 #: What the Cycles caster cannot do: (setting, the value it needs, the sentence that says so, the value in

@@ -11,9 +11,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .ao import buried, occlusion_sums, settle_pilot
+from .ao import buried_by_vote, occlusion_sums, settle_pilot
 from .cycles_rules import BULK_PILOT_RAYS
-from .ray_setup import RayPart, pilot_rays
+from .ray_setup import RayPart, adaptive_pilot_rays
 from .targets import PointTargets
 
 #: Target duration of one :meth:`AOJob.step` (seconds).
@@ -84,7 +84,7 @@ class AOJob:
     ao : (n,) float32 per texel
     computed : (n,) bool, texels that got rays
     settled : (n,) bool, texels the adaptive stop settled after their pilot rays
-    buried : (n,) bool, computed texels inside a closed piece (:func:`.ao.buried`),
+    buried : (n,) bool, computed texels inside a closed piece (:func:`.ao.buried_by_vote`),
         but for the rim of each buried region, which is shaded again at the
         crease (:meth:`_queue_creases`)
     ray_count : (n,) int, rays each texel was meant to get
@@ -124,7 +124,7 @@ class AOJob:
                 if not len(members):
                     continue
                 count = int(shared_rays(rays, halving))
-                pilot = min(count, BULK_PILOT_RAYS) if by_whole else pilot_rays(count, self.params.adaptive)
+                pilot = min(count, BULK_PILOT_RAYS) if by_whole else adaptive_pilot_rays(count, self.params.adaptive)
                 self.ray_count[members] = count
                 self.pilot_count[members] = pilot
                 self.passes.append(RayPass(members, np.arange(pilot)))
@@ -241,7 +241,8 @@ class AOJob:
         """
         self.creased = True
         computed = self.computed
-        self.buried[computed] = buried(self.behind[computed], np.maximum(self.cast_count[computed], 1), self.params)
+        self.buried[computed] = buried_by_vote(self.behind[computed], np.maximum(self.cast_count[computed], 1),
+                                               self.params)
         rim, donor = self.targets.rim(self.buried, computed)
         if not len(rim):
             return

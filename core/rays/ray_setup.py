@@ -44,10 +44,10 @@ class AOParams:
     @property
     def pilot_rays(self):
         """Rays cast for every texel before the adaptive decision (a stratified prefix of the sequence)."""
-        return pilot_rays(self.rays, self.adaptive)
+        return adaptive_pilot_rays(self.rays, self.adaptive)
 
 
-def pilot_rays(rays, adaptive):
+def adaptive_pilot_rays(rays, adaptive):
     """Rays cast for every texel before the adaptive decision: a quarter, at least 16 (a stratified prefix)."""
     return rays if not adaptive else min(rays, max(16, rays // 4))
 

@@ -125,8 +125,8 @@ def free_casters(casters):
 def caster_maker(settings):
     """What makes a bake's casters, ``(positions, triangles, sealed) -> caster``: the Geometry Nodes caster,
     core's Python loop over mathutils' BVH, or the Cycles caster (:mod:`.cycles_caster`), as
-    ``settings.caster()`` says (``ray_caster``, Automatic resolved: never to Cycles where it is not enabled)."""
-    caster = settings.caster(cycles_enabled())
+    ``settings.caster_name()`` says (``ray_caster``, Automatic resolved: never to Cycles where it is not enabled)."""
+    caster = settings.caster_name(cycles_enabled())
     if caster == "CYCLES":
         return CyclesCaster
     return BVHCaster if caster == "PYTHON_BVH" else NodesCaster

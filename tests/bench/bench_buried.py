@@ -3,7 +3,7 @@
     .venv/5.0/bin/python tests/bench/bench_buried.py [--meshes suzanne dense interior cornell]
 
 Bakes each mesh twice with the same rays: as the add-on does, and with no
-texel taken for buried (``core.rays.ao.buried`` answering "none", which is the
+texel taken for buried (``core.rays.ao.buried_by_vote`` answering "none", which is the
 bake as it was before buried texels: the same rays, the same denoiser, no
 crease pass).  Each is evaluated as the shader shows it against the plain
 reference at the report's 2000 visible points (``report.py``, cached in
@@ -39,7 +39,7 @@ def nothing_buried(behind, rays, params):
 def both_ways(bake):
     """``bake()`` as the add-on does it, then with no texel buried."""
     ours = bake()
-    with mock.patch.object(job, "buried", nothing_buried):
+    with mock.patch.object(job, "buried_by_vote", nothing_buried):
         plain = bake()
     return ours, plain
 

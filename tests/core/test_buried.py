@@ -1,10 +1,10 @@
-"""Texels inside another piece (core/mesh/sealed.py, ao.buried, job.buried_rim and job.crease_points): found from
+"""Texels inside another piece (core/mesh/sealed.py, ao.buried_by_vote, job.buried_rim and job.crease_points): found from
 their rays, and the rim of a buried region shaded again at the crease."""
 
 import numpy as np
 
 import meshes
-from seamless_ao.core.rays.ao import buried, occlusion_sums
+from seamless_ao.core.rays.ao import buried_by_vote, occlusion_sums
 from seamless_ao.core.rays.job import crease_points
 from seamless_ao.core.rays.ray_setup import AOParams, BVHCaster
 from seamless_ao.core.rays.targets import buried_rim
@@ -131,12 +131,12 @@ def test_points_inside_a_closed_piece_are_buried_points_behind_an_open_sheet_are
     assert behind.tolist()[0] == 32 and sums[0] == 32          # every ray meets the inside of the box
     assert behind[1] == 0 and sums[1] > 24                     # the back of the sheet: not sealed, occludes
     assert behind[2] == 0
-    assert buried(behind, 32, params).tolist() == [True, False, False]
+    assert buried_by_vote(behind, 32, params).tolist() == [True, False, False]
     # a caster told nothing is sealed buries nothing; ignore_backfaces buries nothing
     plain = BVHCaster(positions, triangles)
-    assert not buried(behind_counts(points, up, plain, params)[1], 32, params).any()
+    assert not buried_by_vote(behind_counts(points, up, plain, params)[1], 32, params).any()
     params.ignore_backfaces = True
-    assert not buried(behind, 32, params).any()
+    assert not buried_by_vote(behind, 32, params).any()
 
 
 def test_the_rim_of_a_buried_region_is_its_texels_beside_a_seen_one_of_their_chart():

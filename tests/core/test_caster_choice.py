@@ -16,15 +16,15 @@ def test_the_cycles_caster_refuses_by_name_what_cycles_ao_cannot_do(name, value)
     with pytest.raises(SeamlessAOError, match="The Cycles ray caster cannot bake with {} = ".format(name)):
         BakeSettings.from_kwargs(ray_caster="CYCLES", **{name: value})
     # Automatic never refuses: it takes the Geometry Nodes caster instead
-    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", **{name: value}).caster() == "GEOMETRY_NODES"
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", **{name: value}).caster_name() == "GEOMETRY_NODES"
 
 
 def test_the_automatic_caster_is_cycles_for_classic_ao_with_rays_beyond_the_pilot():
-    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC").caster() == "CYCLES"
-    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS + 1).caster() == "CYCLES"
-    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS).caster() == "GEOMETRY_NODES"
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC").caster_name() == "CYCLES"
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS + 1).caster_name() == "CYCLES"
+    assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC", rays=BULK_PILOT_RAYS).caster_name() == "GEOMETRY_NODES"
     for chosen in ("GEOMETRY_NODES", "PYTHON_BVH", "CYCLES"):
-        assert BakeSettings.from_kwargs(ray_caster=chosen, rays=1).caster() == chosen
+        assert BakeSettings.from_kwargs(ray_caster=chosen, rays=1).caster_name() == chosen
 
 
 
@@ -33,7 +33,7 @@ def test_the_automatic_caster_never_takes_cycles_where_cycles_is_not_enabled():
     caster stays chosen (the Cycles caster then says it needs Cycles)."""
     assert BakeSettings.from_kwargs(ray_caster="AUTOMATIC").caster_choice(cycles_enabled=False) == (
         "GEOMETRY_NODES", "Cycles is not enabled in this Blender")
-    assert BakeSettings.from_kwargs(ray_caster="CYCLES").caster(cycles_enabled=False) == "CYCLES"
+    assert BakeSettings.from_kwargs(ray_caster="CYCLES").caster_name(cycles_enabled=False) == "CYCLES"
 
 def test_the_cycles_and_automatic_items_name_every_setting_cycles_needs():
     """Their descriptions read off CYCLES_NEEDS: a setting added there shows in both (the Cycles item once

@@ -46,8 +46,8 @@ def test_asking_for_rays_or_a_size_without_a_quality_means_custom():
     assert good.replace(image_size=512).resolved().image_size == 512
     assert good.replace(seed=3).quality == "GOOD"
     # the caster Automatic takes follows the preset's rays, not the Custom ones
-    assert BakeSettings.from_kwargs(quality="DRAFT").caster() == "GEOMETRY_NODES"
-    assert BakeSettings.from_kwargs(quality="GOOD", rays=1).caster() == "CYCLES"
+    assert BakeSettings.from_kwargs(quality="DRAFT").caster_name() == "GEOMETRY_NODES"
+    assert BakeSettings.from_kwargs(quality="GOOD", rays=1).caster_name() == "CYCLES"
 
 
 def test_the_pipeline_bakes_with_the_presets_size_and_rays():
