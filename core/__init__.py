@@ -47,6 +47,7 @@ module                              what it holds
 :mod:`.image.fill`                  the finished image (pull-push)
 :mod:`.image.shown`                 what a material shows: the node group's blend in numpy
 **export** (``core/export/``)
+:mod:`.export.export_pipeline`      the whole export on arrays: a bake as it renders in, PNG or colours out
 :mod:`.export.transfer`             the AO onto another UV map and into PNG bytes; corners
 :mod:`.export.packings`             every packing of a resampled image, one record each
 :mod:`.export.png`                  PNG bytes of float images

@@ -15,11 +15,9 @@ import bpy
 import numpy as np
 
 from ...core.errors import SeamlessAOError
-from ...core.export.packings import BY_ID
-from ...core.export.transfer import corner_values, resample_to_uv, resampled_png, vertex_average
+from ...core.export.export_pipeline import BakedSurface, SlotMaterials, color_values, export_packing, resampled_image
 from ...core.export.uv_fitness import uv_fitness
 from ...core.keys import AO_LAYERS, COLOR_ATTRIBUTE, COLOR_KEY, EXPORT_KEY, GLTF_GROUP, IMAGE_KEY, OURS_KEY
-from ...core.mesh.triangle_mesh import TriangleMesh
 from ...core.settings import ExportSettings
 from ...shaders import material as material_nodes
 from ...shaders.gltf_nodes import hook_gltf_occlusion
@@ -32,19 +30,13 @@ DEFAULTS = ExportSettings()
 
 @dataclass
 class Baked:
-    """What a bake left on an object, read as the object renders."""
+    """What a bake left on an object, read as the object renders: core's :class:`BakedSurface` and what only the
+    Blender side needs to write back."""
 
-    ao_image: np.ndarray        # (h, w) float64
-    layer_uv: np.ndarray        # (t, 3 layers, 3 corners, 2): each triangle's AO_X/Y/Z UVs
+    surface: BakedSurface
     loops: np.ndarray           # (t, 3) int64: the evaluated mesh's corner of each triangle corner
-    mesh: TriangleMesh          # the evaluated mesh
-    material_index: np.ndarray  # (f,) int32 per evaluated face
     target_uv: np.ndarray       # (t, 3, 2) the asked UV map at each triangle corner, or None
     on_base: bool               # the evaluated corners are the base mesh's (else the AO is through the stack)
-
-    def triangle_slot(self, slot_count):
-        """(t,) int: each triangle's material slot, clipped to ``slot_count`` slots (Blender's own rule)."""
-        return np.clip(self.material_index[self.mesh.triangle_face], 0, slot_count - 1)
 
 
 def _baked_inputs(ob, target=None):
@@ -68,8 +60,11 @@ def _baked_inputs(ob, target=None):
         raise SeamlessAOError("'{}' no longer has the surface it was baked with (its modifiers changed); bake it "
                               "again first".format(ob.name))
     layer_uv = np.stack([_loop_uv(holder, name)[loops] for name in AO_LAYERS], axis=1)   # (t, 3, 3, 2)
-    return Baked(image_values(image).astype(np.float64), layer_uv, loops, triangle_mesh, material_index, target_uv,
-                 helper is None)
+    slot_blend = np.array([material_nodes.blend_inputs(slot.material) for slot in ob.material_slots] or [(1.0, 0.0)])
+    triangle_slot = np.clip(material_index[triangle_mesh.triangle_face], 0, len(slot_blend) - 1)
+    surface = BakedSurface(image_values(image).astype(np.float64), layer_uv, triangle_mesh.corner_normals,
+                           triangle_mesh.triangle_area, triangle_mesh.degenerate, triangle_slot, slot_blend)
+    return Baked(surface, loops, target_uv, helper is None)
 
 
 def image_values(image):
@@ -89,15 +84,11 @@ def uv_map_fitness(ob, name):
     return uv_fitness(uv, mesh.triangle_area)
 
 
-def material_values(ob, baked, target):
-    """Each triangle's material's Roughness and Metallic, for the packed images that carry them.
-
-    Returns ``(per_triangle, textures)``: per_triangle (t, 2 + k) holds the two values (a Principled BSDF's
-    own; 0.5 and 0 without one), then one column per texture source, 1 where that triangle reads the value
-    from it; textures is the k sources, ``(index of the value: 0 roughness, 1 metallic, (h, w) float64
-    texture channel)``.  A texture counts when it is read through the UV map ``target`` itself (the
-    resampled image's texels then lie where its texels do); else the input's own value stands.
-    """
+def slot_materials(ob, target):
+    """:class:`~...core.export.export_pipeline.SlotMaterials` of ``ob``'s slots: each one's Roughness and
+    Metallic, and the texture channels it reads them from through the UV map ``target`` itself (the resampled
+    image's texels then lie where its texels do); a texture read through another map leaves the input's own
+    value standing."""
     slots = [getattr(slot, "material", None) for slot in ob.material_slots] or [None]
     default_uv_map = render_active_uv(ob)
     values = np.zeros((len(slots), 2))
@@ -115,26 +106,13 @@ def material_values(ob, baked, target):
                 flat = np.empty(width * height * 4, dtype=np.float32)
                 image.pixels.foreach_get(flat)
                 pixels[image.name] = flat.reshape(height, width, 4).astype(np.float64)
-            key = (v, image.name, channel)
-            if key not in sources:
-                sources.append(key)
-            uses.append((s, sources.index(key)))
-    per_slot = np.zeros((len(slots), 2 + len(sources)))
-    per_slot[:, :2] = values
+            if (v, image.name, channel) not in sources:
+                sources.append((v, image.name, channel))
+            uses.append((s, sources.index((v, image.name, channel))))
+    texture_use = np.zeros((len(slots), len(sources)), dtype=bool)
     for s, j in uses:
-        per_slot[s, 2 + j] = 1.0
-    textures = [(v, pixels[name][:, :, channel]) for v, name, channel in sources]
-    return per_slot[baked.triangle_slot(len(slots))], textures
-
-
-def node_inputs(ob, baked, use):
-    """(strength (t,), interreflection (t,)) of each triangle of :class:`Baked` ``baked``: its face's material's
-    ``Seamless AO`` node inputs, or (1, 0) everywhere when ``use`` is off."""
-    if not use:
-        return 1.0, 0.0
-    per_slot = np.array([material_nodes.blend_inputs(slot.material) for slot in ob.material_slots] or [(1.0, 0.0)])
-    slot = baked.triangle_slot(len(per_slot))
-    return per_slot[slot, 0], per_slot[slot, 1]
+        texture_use[s, j] = True
+    return SlotMaterials(values, texture_use, [(v, pixels[name][:, :, channel]) for v, name, channel in sources])
 
 
 def _loop_uv(mesh, name):
@@ -187,7 +165,7 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
         Which channels carry the AO (:data:`~...core.export.packings.PACKINGS`); ORM
         and the Unity mask map carry each material's roughness and metallic
         too, from its metallic-roughness texture where one is read through
-        the same UV map (:func:`material_values`).
+        the same UV map (:func:`slot_materials`).
     bit_depth : {"16", "8"}
         Bits per channel of the image: a PNG packed into the .blend, which
         the glTF exporter embeds as it is.
@@ -203,22 +181,13 @@ def resample(objects, uv_map=None, size=DEFAULTS.size, padding=DEFAULTS.padding,
     settings = ExportSettings.from_kwargs(uv_map=uv_map or "", size=size, padding=padding,
                                           gltf_occlusion=gltf_occlusion, material_strength=material_strength,
                                           packing=packing, bit_depth=bit_depth, unfit_uv_map=unfit_uv_map)
-    packing = BY_ID[settings.packing]
-    if settings.gltf_occlusion and not packing.gltf_readable:
-        raise SeamlessAOError(packing.not_gltf() + ": turn glTF occlusion off to write one")
+    packing = export_packing(settings)
     names = []
     for ob in objects:
         target = own_uv_map(ob, settings.uv_map or None)
         baked = _baked_inputs(ob, target)
-        fitness = None if settings.unfit_uv_map else uv_fitness(baked.target_uv, baked.mesh.triangle_area)
-        if fitness is not None and not fitness.can_hold_ao:
-            raise SeamlessAOError("'{}': its UV map '{}' cannot hold the AO: {}; pick another UV map, or resample "
-                                  "anyway (Even If Unfit)".format(ob.name, target, "; ".join(fitness.problems())))
-        carried, textures = (material_values(ob, baked, target) if packing.carries_material else (None, []))
-        laid = resample_to_uv(baked.ao_image, baked.layer_uv, baked.mesh.corner_normals, baked.target_uv,
-                              settings.size, settings.padding, baked.mesh.degenerate,
-                              *node_inputs(ob, baked, settings.material_strength), per_triangle=carried)
-        png = resampled_png(laid, settings.packing, settings.bit_depth, textures)
+        materials = slot_materials(ob, target) if packing.carries_material else None
+        png = resampled_image(baked.surface, baked.target_uv, settings, ob.name, target, materials)
         image = store_png_image("{}_AO_{}".format(ob.name, target), png, marks=(OURS_KEY, EXPORT_KEY))
         if settings.gltf_occlusion:
             for material in {s.material for s in ob.material_slots if s.material is not None}:
@@ -241,17 +210,12 @@ def to_color_attribute(objects, domain=DEFAULTS.domain, material_strength=DEFAUL
                 "'{}' is baked through its modifier stack (its modifiers change its faces, or its mesh is shared), "
                 "so a colour attribute on its mesh cannot hold the AO of the surface that renders; resample the "
                 "AO onto a UV map instead".format(ob.name))
-        values = corner_values(baked.ao_image, baked.layer_uv, baked.mesh.corner_normals,
-                               *node_inputs(ob, baked, settings.material_strength))   # (t, 3)
         data = ob.data
-        per_loop = np.ones(len(data.loops))
-        per_loop[baked.loops.ravel()] = values.ravel()
+        vertex = None
         if domain == "POINT":
             vertex = np.empty(len(data.loops), dtype=np.int32)
             data.loops.foreach_get("vertex_index", vertex)
-            per_element = vertex_average(per_loop, vertex, len(data.vertices))
-        else:
-            per_element = per_loop
+        per_element = color_values(baked.surface, settings, baked.loops, len(data.loops), vertex, len(data.vertices))
         existing = data.color_attributes.get(COLOR_ATTRIBUTE)
         if existing is not None and (existing.domain != domain or existing.data_type != "FLOAT_COLOR"):
             data.color_attributes.remove(existing)

@@ -1,5 +1,6 @@
-"""Does a change keep every bake the same, bit for bit?  Bakes a fixed set of scenes with two versions of
-the add-on and compares the images and UV maps they write.
+"""Does a change keep every bake and export the same, bit for bit?  Bakes a fixed set of scenes with two
+versions of the add-on and compares the images and UV maps they write, and the exports of every baked
+object with a UV map of its own (the resampled PNG in each packing, the colour attribute on corners and points).
 
     .venv/5.0/bin/python tests/scripts/same_images.py --against REV     # this tree against commit REV
     .venv/5.0/bin/python tests/scripts/same_images.py --root DIR --json # one tree's digests (used by the above)
@@ -10,7 +11,7 @@ script once per tree, each in a process of its own with that tree's package
 only: Suzanne, a room of boxes with scene occluders and a ground plane, three
 objects baked together (one mirrored, one rotated), the generated interior,
 weighted rays, and the Python BVH caster.  It prints one row per scene and
-exits with 1 if any image or UV map differs.
+exits with 1 if any image, UV map or export differs.
 """
 
 import argparse
@@ -62,6 +63,47 @@ def monkey(bpy, name, levels=2):
     return ob
 
 
+def textured_material(bpy):
+    """A Principled BSDF whose Roughness is the green channel of an image read through "UVMap" (what the ORM
+    and Unity packings carry) and whose Metallic is its own value."""
+    import numpy as np
+    material = bpy.data.materials.new("Textured")
+    material.use_nodes = True
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    principled = next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    principled.inputs["Metallic"].default_value = 0.25
+    image = bpy.data.images.new("RoughnessMap", 32, 32, float_buffer=True)
+    ramp = np.linspace(0.0, 1.0, 32 * 32 * 4, dtype=np.float32)
+    image.pixels.foreach_set(ramp)
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    uv_node = nodes.new("ShaderNodeUVMap")
+    uv_node.uv_map = "UVMap"
+    split = nodes.new("ShaderNodeSeparateColor")
+    links.new(uv_node.outputs["UV"], texture.inputs["Vector"])
+    links.new(texture.outputs["Color"], split.inputs[0])
+    links.new(split.outputs["Green"], principled.inputs["Roughness"])
+    return material
+
+
+def export_digest(package, bpy, objects):
+    """sha256 of every export of the baked objects that have a UV map of their own ("UVMap"): the resampled
+    PNG in each packing, and the colour attribute on corners and on points; "" when none has one."""
+    import numpy as np
+    digest = hashlib.sha256()
+    for ob in [o for o in objects if "UVMap" in o.data.uv_layers]:
+        for packing in ("GLTF", "GREY", "ORM", "UNITY_MASK"):
+            name, = package.resample([ob], uv_map="UVMap", size=128, packing=packing, gltf_occlusion=False)
+            digest.update(bytes(bpy.data.images[name].packed_file.data))
+        for domain in ("CORNER", "POINT"):
+            package.to_color_attribute([ob], domain=domain)
+            attribute = ob.data.color_attributes["AO"]
+            colours = np.empty(len(attribute.data) * 4, dtype=np.float32)
+            attribute.data.foreach_get("color", colours)
+            digest.update(colours.tobytes())
+    return digest.hexdigest()[:16] if any("UVMap" in o.data.uv_layers for o in objects) else ""
+
+
 def scenes(bpy):
     """``(name, build() -> objects, settings)`` of every scene compared."""
     sys.path.insert(0, str(SUPPORT))
@@ -69,7 +111,9 @@ def scenes(bpy):
     from real_assets import interior
 
     def suzanne():
-        return [monkey(bpy, "Suzanne")]
+        ob = monkey(bpy, "Suzanne")
+        ob.data.materials.append(textured_material(bpy))
+        return [ob]
 
     def room():
         positions, triangles = box(size=(4.0, 4.0, 0.2), center=(0.0, 0.0, -0.1))
@@ -128,7 +172,8 @@ def digests(root):
                 ob.data.uv_layers[layer].data.foreach_get("uv", values)
                 uv.update(values.tobytes())
         result[name] = {"image": hashlib.sha256(pixels.tobytes()).hexdigest()[:16], "uv": uv.hexdigest()[:16],
-                        "texels": report.texels, "rays": int(report.rays)}
+                        "exports": export_digest(package, bpy, objects), "texels": report.texels,
+                        "rays": int(report.rays)}
     return result
 
 
@@ -152,13 +197,14 @@ def compare(revision):
             subprocess.run(["git", "-C", str(here), "worktree", "remove", "--force", str(other)], check=True)
     after = run_tree(here)
     same = True
-    print("| scene | image | UV maps | texels, rays |")
-    print("|---|---|---|---|")
+    print("| scene | image | UV maps | exports | texels, rays |")
+    print("|---|---|---|---|---|")
     for name in after:
         a, b = before.get(name, {}), after[name]
-        rows = [("same" if a.get(k) == b[k] else "DIFFERENT") for k in ("image", "uv")]
-        same &= rows == ["same", "same"]
-        print("| {} | {} | {} | {:,}, {:,} |".format(name, rows[0], rows[1], b["texels"], b["rays"]))
+        rows = [("same" if a.get(k) == b[k] else "DIFFERENT") for k in ("image", "uv", "exports")]
+        rows[2] = rows[2] if b["exports"] else "none"
+        same &= all(row in ("same", "none") for row in rows)
+        print("| {} | {} | {} | {} | {:,}, {:,} |".format(name, *rows, b["texels"], b["rays"]))
     print("{} against {}: {}".format("this tree", revision, "the same bit for bit" if same else "NOT the same"))
     return 0 if same else 1
 
