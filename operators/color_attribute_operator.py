@@ -7,7 +7,6 @@ from ..core.settings import COLOR_FIELDS
 from .adapters.exports import to_color_attribute
 from .export_operator_base import ExportOperator
 from .poll import baked_targets
-from .properties import export_annotations
 
 
 class OBJECT_OT_seamless_ao_to_color(ExportOperator, bpy.types.Operator):
@@ -15,9 +14,6 @@ class OBJECT_OT_seamless_ao_to_color(ExportOperator, bpy.types.Operator):
 
     bl_idname = "object.seamless_ao_to_color"
     bl_label = "AO to Colour Attribute"
-    bl_options = {"REGISTER", "UNDO"}
-
-    __annotations__ = export_annotations(COLOR_FIELDS)
     fields = COLOR_FIELDS
 
     def export(self, context):

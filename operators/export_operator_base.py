@@ -3,14 +3,19 @@ did not set come from the scene's Export panel (``invoke``), and an export error
 
 from ..core.errors import SeamlessAOError
 from .poll import baked_selection_problem, poll_explained
-from .properties import fill_from_scene
+from .properties import export_annotations, fill_from_scene
 
 
 class ExportOperator:
-    """Mix-in for an operator with ``fields`` (names of ``ExportSettings`` it has as properties) and
-    ``export(context) -> message``."""
+    """Mix-in for an operator with ``fields`` (names of ``ExportSettings`` it has as properties, made here from
+    core's settings) and ``export(context) -> message``."""
 
+    bl_options = {"REGISTER", "UNDO"}
     fields = ()
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        cls.__annotations__ = export_annotations(cls.fields)
 
     @classmethod
     def poll(cls, context):

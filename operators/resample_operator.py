@@ -6,7 +6,6 @@ from ..core.settings import RESAMPLE_FIELDS
 from .adapters.exports import resample
 from .export_operator_base import ExportOperator
 from .poll import baked_targets
-from .properties import export_annotations
 
 
 class OBJECT_OT_seamless_ao_resample(ExportOperator, bpy.types.Operator):
@@ -14,9 +13,6 @@ class OBJECT_OT_seamless_ao_resample(ExportOperator, bpy.types.Operator):
 
     bl_idname = "object.seamless_ao_resample"
     bl_label = "Resample AO to UV Map"
-    bl_options = {"REGISTER", "UNDO"}
-
-    __annotations__ = export_annotations(RESAMPLE_FIELDS)
     fields = RESAMPLE_FIELDS
 
     def export(self, context):
