@@ -92,3 +92,29 @@ def test_every_relative_link_resolves(path):
             headings = {re.sub(r"[^\w\- ]", "", h.lower()).strip().replace(" ", "-")
                         for h in re.findall(r"^#+ (.*)$", linked.read_text(), re.M)}
             assert fragment in headings, "{} links to a missing heading {}".format(path.relative_to(ROOT), target)
+
+
+def package_strings():
+    """Every string constant of the package's code (adjacent literals are one constant to ``ast``)."""
+    import ast
+    found = []
+    for folder in ("core", "operators", "panels", "shaders"):
+        for path in (ROOT / folder).rglob("*.py"):
+            found += [node.value for node in ast.walk(ast.parse(path.read_text()))
+                      if isinstance(node, ast.Constant) and isinstance(node.value, str)]
+    return found
+
+
+def test_every_message_the_troubleshooting_page_quotes_is_one_the_add_on_says():
+    """docs/troubleshooting.md quotes messages with "…" where a name or a number goes: every piece between
+    those is in one string of the code, word for word (a reworded message fails here until the page follows)."""
+    strings = package_strings()
+    quoted = re.findall(r'^\| "(.+?)" \|', (DOCS / "troubleshooting.md").read_text(), re.M)
+    assert len(quoted) >= 30, len(quoted)
+    unsaid = []
+    for message in quoted:
+        for piece in re.split(r'…|", "', message):
+            piece = piece.strip(" .")
+            if len(piece) >= 4 and not any(piece in s for s in strings):
+                unsaid.append(piece)
+    assert not unsaid, unsaid
