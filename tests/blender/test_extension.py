@@ -10,7 +10,7 @@ import zipfile
 import bpy
 import pytest
 
-from extension_zip import build_zips, run_tool
+from extension_zip import build_zips, build_zips_as_the_readme, run_tool
 from package import ROOT, run_script, seamless_ao
 
 
@@ -67,6 +67,24 @@ def test_zip_contains_the_package_and_not_the_tests(built_zip):
     python = "cp{}{}".format(*sys.version_info[:2])
     assert any(re.search(r"wheels/xatlas-.*{}.*manylinux".format(python), n) for n in names), names
 
+
+
+def test_the_plain_python_build_makes_the_zips_blenders_tool_makes(built_zip, tmp_path):
+    """build.py (Python alone: no make, no Blender, as on Windows) writes the three platform zips with the same
+    files, byte for byte, as Blender's own extension tool (``make extension``); the manifest it writes into
+    each names that platform and its wheels only, and the build script is not in the zip."""
+    ours = sorted(build_zips_as_the_readme(tmp_path).values())
+    assert [path.name for path in ours] == sorted(path.name for path in built_zip.parent.glob("*.zip"))
+    assert len(ours) == 3
+    for path in ours:
+        mine, blenders = zipfile.ZipFile(path), zipfile.ZipFile(built_zip.parent / path.name)
+        assert sorted(mine.namelist()) == sorted(blenders.namelist()), path.name
+        different = [name for name in mine.namelist() if mine.read(name) != blenders.read(name)]
+        assert not different, (path.name, different)
+        assert "build.py" not in mine.namelist()
+        platform = path.stem.rsplit("-", 1)[1].replace("_", "-")
+        generated = tomllib.loads(mine.read("blender_manifest.toml").decode())["build"]["generated"]
+        assert generated["platforms"] == [platform] and len(generated["wheels"]) == 2
 
 def test_zip_installs_enables_and_round_trips(built_zip):
     proc = run_script("install_zip.py", str(built_zip))

@@ -6,7 +6,7 @@ They run once per ``make test`` (not once per ``bpy`` wheel), on the root ``make
 
 import pytest
 
-from extension_zip import build_zips
+from extension_zip import build_zips_as_the_readme
 from real_blender import ROOT_VARIABLE, RealBlender, root_from_environment
 
 
@@ -23,5 +23,6 @@ def real_blender(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def zips(real_blender):
-    """The extension zips, built into ``dist/`` of the scratch folder as ``make extension`` builds them."""
-    return build_zips(real_blender.scratch / "dist")
+    """The extension zips, built into ``dist/`` of the scratch folder as the README builds them (``python
+    build.py``; tests/blender/test_extension.py holds them to ``make extension``'s, byte for byte)."""
+    return build_zips_as_the_readme(real_blender.scratch / "dist")

@@ -1,6 +1,7 @@
 """The extension zip as ``make extension`` builds it, with Blender's own tool from the ``bpy`` wheel.
 
     build_zips(out_dir) -> {platform: path}     e.g. {"linux_x64": .../seamless_ao-0.1.0-linux_x64.zip, ...}
+    build_zips_as_the_readme(out_dir) -> the same, from ``python build.py`` (the README's install path)
 """
 
 import pathlib
@@ -30,5 +31,13 @@ def build_zips(out_dir):
     """Build one zip per platform into ``out_dir``, as ``make extension`` does; ``{platform: path}``."""
     pathlib.Path(out_dir).mkdir(parents=True, exist_ok=True)
     proc = run_tool("build", "--source-dir", str(ROOT), "--output-dir", str(out_dir), "--split-platforms")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    return {path.stem.rsplit("-", 1)[1]: path for path in sorted(pathlib.Path(out_dir).glob("*.zip"))}
+
+
+def build_zips_as_the_readme(out_dir):
+    """The zips of the README's ``python build.py`` (plain Python, no Blender) in ``out_dir``; ``{platform: path}``."""
+    proc = subprocess.run([sys.executable, str(ROOT / "build.py"), "--output-dir", str(out_dir)], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     return {path.stem.rsplit("-", 1)[1]: path for path in sorted(pathlib.Path(out_dir).glob("*.zip"))}
