@@ -17,6 +17,8 @@ OUTLIER_RATIO = 10.0
 #: :data:`STRAY_LEAST` triangles) at each end of each axis.
 TRIM_SHARE = 0.01
 TRIM_LEAST = 3 * STRAY_LEAST
+#: A mesh with fewer triangles than this keeps its whole box: its stray triangles could not be few.
+ROBUST_LEAST_TRIANGLES = 1000
 
 
 def mesh_size(positions):
@@ -35,7 +37,7 @@ def robust_box(positions, triangles):
     Triangles reach far out when they have a vertex outside the box of the
     rest (the vertices without the :data:`TRIM_SHARE` at each end of each
     axis) grown by that box's diagonal on every side.  They are left out
-    when the mesh has 1,000 triangles or more, they are at most
+    when the mesh has :data:`ROBUST_LEAST_TRIANGLES` or more, they are at most
     :data:`OUTLIER_SHARE` of them (or :data:`STRAY_LEAST`, if more) and the
     whole box is more than :data:`OUTLIER_RATIO` times larger than the rest:
     a spike to a stray vertex, or a few triangles floating far off, never a
@@ -53,7 +55,7 @@ def robust_box(positions, triangles):
     if not len(points):
         return np.zeros(3), np.zeros(3), none
     low, high = points.min(axis=0), points.max(axis=0)
-    if len(triangles) < 1000:
+    if len(triangles) < ROBUST_LEAST_TRIANGLES:
         return low, high, none
     trim = min(max(TRIM_LEAST, int(len(points) * TRIM_SHARE)), (len(points) - 1) // 4)
     ends = np.partition(points, (trim, len(points) - 1 - trim), axis=0)

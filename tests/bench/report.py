@@ -92,7 +92,7 @@ def spiral_ramp_object():
 
 
 def interior_object():
-    """The generated interior of 1,300+ pieces (tests/support/real_assets.py): the kind of scene that used to fail to pack."""
+    """The generated interior of many pieces (tests/support/real_assets.py; its counts: docs/bench/bench_meshes.md)."""
     from real_assets import interior
     from blender_scenes import add_object, mesh_from_arrays
     positions, triangles = interior()
@@ -100,7 +100,7 @@ def interior_object():
 
 
 def scan_object():
-    """A scan-like mesh of about 70k triangles (one closed noisy surface with holes, shaded smooth)."""
+    """A scan-like mesh (one closed noisy surface with holes, shaded smooth; its counts: docs/bench/bench_meshes.md)."""
     from real_assets import noisy_scan
     from blender_scenes import add_object, mesh_from_arrays
     positions, triangles = noisy_scan(triangles=70_000)

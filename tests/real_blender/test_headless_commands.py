@@ -2,7 +2,8 @@
 with a real ``blender`` binary and the extension installed from its zip by Blender's own installer.
 
 The commands are read from the documents' ``sh`` blocks, so a command the docs add or change is run here
-as written.  Each runs in a fresh copy of a folder holding the files the commands name
+as written.  The one command that needs a Dask cluster (docs/pipelines.md, in a ``text`` block: its scheduler
+address stands for the user's) runs in ``tests/blender/test_farm.py`` against a local cluster instead.  Each runs in a fresh copy of a folder holding the files the commands name
 (``tests/scripts/documented_workspace.py``).
 """
 
