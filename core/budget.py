@@ -1,6 +1,7 @@
 """How much memory a bake will need, estimated before it starts (the memory budget setting)."""
 
 from .errors import SeamlessAOError
+from .rays.cycles_rules import CYCLES_BYTES_PER_TRIANGLE, CYCLES_FIXED_BYTES
 
 #: Charts overlap: the three projections together cover about this much more than the surface.
 CHART_OVERLAP = 1.5
@@ -17,10 +18,12 @@ PER_PIXEL = 24
 FIXED = 56 * 2**20
 
 
-def estimated_bytes(triangles, texels, pixels):
+def estimated_bytes(triangles, texels, pixels, cycles=False):
     """Peak memory a bake adds, in bytes: per-triangle arrays (mesh, charts, atlas, caster), per-texel
-    arrays (points, normals, sums, denoiser), dense image-sized maps, and ray batches."""
-    return int(FIXED + PER_TRIANGLE * triangles + PER_TEXEL * texels + PER_PIXEL * pixels)
+    arrays (points, normals, sums, denoiser), dense image-sized maps, and ray batches; with ``cycles`` (the
+    Cycles caster casts the bulk) Cycles' own scene and its copy of the triangles too."""
+    ours = FIXED + PER_TRIANGLE * triangles + PER_TEXEL * texels + PER_PIXEL * pixels
+    return int(ours + (CYCLES_FIXED_BYTES + CYCLES_BYTES_PER_TRIANGLE * triangles if cycles else 0))
 
 
 def planned_size(settings, surface_area):
@@ -37,8 +40,9 @@ def planned_size(settings, surface_area):
 
 
 def check_budget(settings, triangles, pixels, texels):
-    """Raise :class:`SeamlessAOError` if the estimate exceeds ``settings.memory_budget_mb``."""
-    needed = estimated_bytes(triangles, texels, pixels) / 2**20
+    """Raise :class:`SeamlessAOError` if the estimate exceeds ``settings.memory_budget_mb`` (Cycles' part counted
+    where the settings take the Cycles caster)."""
+    needed = estimated_bytes(triangles, texels, pixels, settings.caster_name() == "CYCLES") / 2**20
     if needed > settings.memory_budget_mb:
         raise SeamlessAOError(
             "This bake would need about {:,.0f} MB, more than the memory budget of {:,} MB; lower the image "

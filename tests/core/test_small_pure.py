@@ -52,9 +52,16 @@ def test_memory_estimate_grows_with_texels_and_pixels_and_is_refused_over_the_bu
     assert planned_size(dense, 2.0)[0] == pytest.approx(2 * planned_size(dense, 1.0)[0])
     assert estimated_bytes(1000, 2 * texels, pixels) > estimated_bytes(1000, texels, pixels)
     assert estimated_bytes(2000, texels, pixels) > estimated_bytes(1000, texels, pixels)
+    assert estimated_bytes(1000, texels, pixels, cycles=True) > estimated_bytes(1000, texels, pixels) + 100 * 2**20
     check_budget(settings, 1000, pixels, texels)
     with pytest.raises(SeamlessAOError, match="memory budget of 64 MB"):
         check_budget(BakeSettings(memory_budget_mb=64), 1000, pixels, texels)
+    # the Cycles caster's own memory counts where the settings take it (Automatic at the defaults)
+    nodes_only = estimated_bytes(1000, texels, pixels) / 2**20
+    budget = int(nodes_only) + 50
+    check_budget(BakeSettings(memory_budget_mb=budget, ray_caster="GEOMETRY_NODES"), 1000, pixels, texels)
+    with pytest.raises(SeamlessAOError, match="memory budget of {:,} MB".format(budget)):
+        check_budget(BakeSettings(memory_budget_mb=budget), 1000, pixels, texels)
 
 
 def test_ao_params_follow_the_objects_size_and_lowest_point():
