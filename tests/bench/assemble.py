@@ -4,7 +4,9 @@
 
 Each page begins with the line its benchmark wrote naming the script, the
 machine, Blender and the commit, so every figure in docs/ can be traced to the
-run that printed it; this script only orders the pages and adds a contents list.
+run that printed it; this script only orders the pages and adds a contents list, after the
+one-screen summary of docs/benchmark-summary.md (written by hand; the docs
+test holds each of its figures to the page it links to).
 """
 
 import pathlib
@@ -32,6 +34,8 @@ def main():
              "*Assembled by `tests/bench/assemble.py` from the pages the benchmarks in `tests/bench/` wrote into "
              "`docs/bench/` (`make bench` runs them all, `make bench BENCHES=\"report bench_rays\"` some). Each "
              "section names the command, machine, Blender and commit that wrote it. Do not edit.*", ""]
+    summary = (ROOT / "docs" / "benchmark-summary.md").read_text().splitlines()[1:]     # hand-written, checked
+    lines += ["## In one screen"] + [re.sub(r"\]\(bench/", "](bench/", line) for line in summary] + [""]
     lines += ["- [{}](#{})".format(title, anchor(title)) for title in titles] + [""]
     for page in pages:
         lines.append(re.sub(r"\]\((?!http)([^)]+\.png)\)", r"](bench/\1)", page).rstrip())
