@@ -5,8 +5,8 @@
 
 Ray Caster *Cycles* casts each texel's pilot rays and the creases with the
 Geometry Nodes Raycast node and hands the remaining rays to Cycles' AO bake
-(docs/how-it-works.md, "Who casts the rays").  Each mesh (report.py's own:
-subdivided Suzanne, the 70k-triangle scan, the 1,300-piece interior) is baked
+(docs/how-it-works.md, "Who casts the rays").  Each mesh (report.py's own
+*suzanne*, *scan* and *interior*: docs/bench/bench_meshes.md) is baked
 through the operator at default settings but the caster, image size and rays,
 timed as the user waits (warm: one untimed bake with each caster first; the
 median of ``--runs``).  Error: RMSE of what the material shows at report.py's

@@ -2,7 +2,7 @@
 
     .venv/5.0/bin/python tests/bench/bench_cycles_margin.py [--margins 1.536 2 4] [--size 512] [--samples 64]
 
-Bakes Suzanne (subdivided twice) and the 1,300-piece interior of
+Bakes Suzanne (subdivided twice) and the interior (docs/bench/bench_meshes.md) of
 tests/support/real_assets.py with Cycles at one size and sample count, for several
 island margins given in texels of that image, and prints the RMSE and 99th
 percentile against the plain reference at 1,000 visible points.  Too small a

@@ -2,10 +2,8 @@
 
     .venv/5.0/bin/python tests/bench/bench_fixed_cost.py [--runs 3]
 
-The meshes issue 30 names: a scan-like mesh of about 70k triangles
-(tests/support/real_assets.noisy_scan: one closed noisy surface with holes,
-shaded smooth), the generated interior of over a thousand pieces (94k
-triangles), and, for the ray rate of a single closed object, Suzanne
+The meshes issue 30 names, report.py's *scan* and *interior*
+(docs/bench/bench_meshes.md), and, for the ray rate of a single closed object, Suzanne
 subdivided twice. Each bake runs through the bake operator
 (bpy.ops.object.seamless_ao_bake, as a script or the command line runs it),
 warm, and each figure is the median of the runs. The fixed cost is the
