@@ -2,8 +2,8 @@
 
     .venv/5.0/bin/python tests/bench/bench_atlas.py [--sizes 256 512 1024] [--spheres 250000 1000000]
 
-Meshes: the generated real-asset set (tests/support/real_assets.py: an interior of
-1,000+ pieces, a holed 100k-triangle scan, 10,000 chips, a 1:1000 beam) and
+Meshes: the generated real-asset set (tests/support/real_assets.py: interior,
+noisy_scan, chips and long_thin, counted in docs/bench/bench_meshes.md) and
 bumpy spheres of the given triangle counts.  Prints time per stage, peak numpy
 memory, utilisation, texel density and xatlas runs, then whether issue 13's
 targets are met: charts + pack + rasterise <= 1.0 s at 250k triangles and

@@ -12,7 +12,7 @@ UV_NAME = "CyclesAO"
 
 #: Space Smart UV Project keeps between islands, in texels of the baked image; Cycles' bake margin
 #: (16 px) fills the gap from both sides.  Measured at 512²/64 against the plain reference
-#: (bench_cycles_margin.py; RMSE on Suzanne subdivided twice / the 1,300-piece interior):
+#: (bench_cycles_margin.py; RMSE on Suzanne subdivided twice / the interior, docs/bench/bench_meshes.md):
 #: 1.5 texels (the 0.003 used before) 0.0146 / 0.0466, 2 texels 0.0097 / 0.0429, 4 texels
 #: 0.0137 / 0.0551.  Less lets lookups at an island's border read its neighbour; more shrinks
 #: every island.
