@@ -155,7 +155,7 @@ class BakeSession:
         settings)."""
         settings = self.settings
         if settings.ray_caster == "AUTOMATIC" and not cycles_enabled():
-            settings = dataclasses.replace(settings, ray_caster="GEOMETRY_NODES")
+            settings = dataclasses.replace(settings, ray_caster=settings.caster_name(cycles_enabled=False))
         self.process = BackgroundBake(meshes, self.matrices, occluders, settings, self._shown())
         while (state := self.process.poll()) is not None:
             yield state
