@@ -131,8 +131,9 @@ def interior(seed=0):
     return scene.mesh()
 
 
-def noisy_scan(triangles=100_000, holes=4, seed=0):
-    """One connected closed-then-holed surface: a lumpy, noisy sphere (about ``triangles`` triangles)."""
+def noisy_scan(triangles=100_000, holes=4, seed=0, noise=0.002):
+    """One connected closed-then-holed surface: a lumpy, noisy sphere (about ``triangles`` triangles), its
+    scanner ``noise`` the standard deviation of each vertex's radius (object units; the sphere's radius is 1)."""
     rng = np.random.default_rng(seed)
     segments = int(np.sqrt(triangles))
     rings = max(4, triangles // (2 * segments) + 1)
@@ -141,7 +142,7 @@ def noisy_scan(triangles=100_000, holes=4, seed=0):
     t, p = np.meshgrid(theta, phi, indexing="ij")
     direction = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1)
     radius = 1.0 + 0.15 * np.sin(3 * t) * np.cos(2 * p) + 0.05 * np.sin(11 * t + 1.0) * np.sin(13 * p)
-    radius = radius + rng.normal(0.0, 0.002, radius.shape)                                # scanner noise
+    radius = radius + rng.normal(0.0, noise, radius.shape)                                # scanner noise
     body = (direction * radius[..., None]).reshape(-1, 3)
     positions = np.vstack([body, [[0, 0, 1.0], [0, 0, -1.0]]])
     r, c = np.meshgrid(np.arange(len(theta) - 1), np.arange(segments), indexing="ij")
