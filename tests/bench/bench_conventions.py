@@ -28,7 +28,7 @@ import numpy as np
 
 from accuracy import reference_ao, shown_single_uv, surface_samples  # noqa: E402
 from blender_scenes import suzanne  # noqa: E402
-from cycles_baseline import UV_NAME, cycles_ao_bake  # noqa: E402
+from cycles_baseline import UV_NAME, cycles_ao_bake, half_diagonal  # noqa: E402
 from seamless_ao.core.rays import ao as ao_module  # noqa: E402
 from seamless_ao.core.rays.sampling import cone_directions, tangent_frames  # noqa: E402
 from seamless_ao.core.settings import BakeSettings  # noqa: E402
@@ -90,7 +90,7 @@ def main():
         values["Seamless AO, mirrored (now)"] = estimator_at_points(ob, mesh, triangle, bary, normals, args.rays, True)
         values["Seamless AO, cast as they are"] = estimator_at_points(ob, mesh, triangle, bary, normals, args.rays,
                                                                       False)
-        distance = 0.5 * float(np.linalg.norm(np.ptp(mesh.positions @ np.array(ob.matrix_world)[:3, :3].T, axis=0)))
+        distance = half_diagonal(ob, mesh)
         image, _, _ = cycles_ao_bake(ob, 1024, 256, distance)
         values["Cycles bake 1024², 256"] = shown_single_uv(ob, image, UV_NAME, loops, triangle, bary)
         names = list(values)

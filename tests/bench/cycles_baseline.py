@@ -2,6 +2,8 @@
 
 import time
 
+import numpy as np
+
 import bpy
 
 import package  # noqa: F401  (imports the add-on as ``seamless_ao``)
@@ -35,6 +37,12 @@ def smart_unwrap(ob, angle_limit=66.0, island_margin=0.003):
     bpy.ops.object.mode_set(mode="OBJECT")
     if previous is not None:
         mesh.uv_layers.active = previous
+
+
+def half_diagonal(ob, mesh):
+    """The distance Cycles' AO is baked to: half the diagonal of ``mesh``'s box as ``ob`` stands in the world
+    (rotated and scaled), Seamless AO's default maximum distance."""
+    return 0.5 * float(np.linalg.norm(np.ptp(mesh.positions @ np.array(ob.matrix_world)[:3, :3].T, axis=0)))
 
 
 def cycles_ao_bake(ob, size, samples, distance, margin=16):

@@ -20,6 +20,13 @@ PROMISES = (
 LIMIT_SECONDS = 1.0
 
 
+def cheapest_reaching(runs, level):
+    """The fastest of ``runs`` (``(seconds, RMSE, label)`` each) whose RMSE is at most ``level``, the more accurate
+    of equally fast ones first; None if none is."""
+    good = sorted(run for run in runs if run[1] <= level)
+    return good[0] if good else None
+
+
 def promise_rows(curves):
     """One row (:data:`HEADERS`) per mesh and preset, and ``(promises, kept)``."""
     rows, counts = [], [0, 0]
@@ -31,7 +38,7 @@ def promise_rows(curves):
             if preset not in ours or not levels:
                 continue
             level = min(run[1] for run in levels)
-            cheapest = min((run for run in cycles if run[1] <= level), key=lambda run: run[0])
+            cheapest = cheapest_reaching(cycles, level)
             seconds, rmse = ours[preset]
             limit = cheapest[0] * share if share is not None else (LIMIT_SECONDS if mesh in timed else None)
             kept = rmse <= level and (limit is None or seconds <= limit)

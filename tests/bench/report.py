@@ -47,13 +47,14 @@ import time
 import numpy as np
 
 from common import PAGES, finish, markdown_table, say, use_gpu
-from quality_promises import HEADERS as PROMISE_HEADERS, PRESET_METHOD, promise_rows, promise_sentence
+from quality_promises import (HEADERS as PROMISE_HEADERS, PRESET_METHOD, cheapest_reaching, promise_rows,
+                              promise_sentence)
 
 import bpy
 
 from accuracy import errors, reference_ao, shown_seamless, shown_single_uv, surface_samples, world_map
 from blender_scenes import cornell_box, sphere_over_plane, suzanne
-from cycles_baseline import UV_NAME, cycles_ao_bake
+from cycles_baseline import UV_NAME, cycles_ao_bake, half_diagonal
 from seams import point_normals, seam_error, seam_pairs, seam_renders
 from seamless_ao.core.keys import IMAGE_KEY
 from seamless_ao.core.settings import PRESETS, QUALITY_ITEMS
@@ -195,8 +196,7 @@ def run_mesh(name, cache, out, rows, curves, timed_runs=3):
     mesh, loops = read_triangles(ob.data)
     triangle, bary, normals, ref, ref_seconds = reference(ob, mesh, cache)
     print("{}: {:,} triangles, reference {:.1f} s".format(name, len(mesh.triangles), ref_seconds), flush=True)
-    distance = 0.5 * float(np.linalg.norm(
-        np.ptp(mesh.positions @ np.array(ob.matrix_world)[:3, :3].T, axis=0)))
+    distance = half_diagonal(ob, mesh)
     rng = np.random.default_rng(1)
     seam_refs = {}
     # A primitive whose AO is 1 everywhere is exact at any setting: its cheapest runs say so.
@@ -364,18 +364,18 @@ def time_to_cycles_error(curves):
         ours = sorted(curves.get((mesh, OURS), []) +
                       [(seconds, rmse, label + " Cycles") for seconds, rmse, label in curves.get((mesh, OURS_CYCLES), [])])
         for _, level, label in sorted(cycles, key=lambda run: -run[1]):
-            their = min((run for run in cycles if run[1] <= level), key=lambda run: run[0])
-            good = [run for run in ours if run[1] <= level]
+            their = cheapest_reaching(cycles, level)
+            good = cheapest_reaching(ours, level)
             row = [mesh, "{} ({:.4f})".format(label.replace("/", "²/"), level),
                    "{:.2f} s ({})".format(their[0], their[2].replace("/", "²/"))]
             counts[0] += 1
-            if good:
-                ratio = good[0][0] / their[0]
+            if good is not None:
+                ratio = good[0] / their[0]
                 counts[1] += ratio <= 1.0
                 counts[2] += ratio <= 0.5
-                kept = good[0][0] <= (0.5 * their[0] if their[0] >= RULE_SECONDS else RULE_SECONDS)
+                kept = good[0] <= (0.5 * their[0] if their[0] >= RULE_SECONDS else RULE_SECONDS)
                 counts[3] += kept
-                row += ["{:.2f} s ({}, {:.4f})".format(good[0][0], good[0][2].replace("/", "²/"), good[0][1]),
+                row += ["{:.2f} s ({}, {:.4f})".format(good[0], good[2].replace("/", "²/"), good[1]),
                         "{:.2f}".format(ratio), "yes" if kept else "**no**"]
             else:
                 best = min(ours, key=lambda run: run[1])
