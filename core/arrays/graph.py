@@ -67,16 +67,25 @@ def sort_order(*keys, stable=True):
 
     The same as ``np.lexsort(keys[::-1])``; when the keys' ranges multiply to
     less than 2**62 they are folded into one int64 key and sorted once, two to
-    three times faster on millions of entries.
+    three times faster on millions of entries.  A least significant key
+    already in order (a face index along the triangles Blender lists face by
+    face) is left out: sorting stably by the others keeps it in order.
+
+    How the folded key is sorted follows its order (:func:`in_mesh_order`):
+    keys read along a mesh (vertex and face indices of neighbouring triangles
+    are close) go to numpy's stable sort, a merge sort that follows the runs
+    already in order: on the keys of the report's meshes and a 1M-triangle
+    Suzanne it took a fifth to a half of the time of the unstable one.  Keys in
+    no order (a shuffled mesh) go to :func:`radix_order` from :data:`RADIX_FROM`
+    entries up, two to three times as fast as either of numpy's sorts there.
 
     Parameters
     ----------
     *keys : (n,) int arrays, each >= 0
     stable : bool
         Entries with equal keys keep their order.  A caller that cannot tell
-        such entries apart passes False: numpy's unstable sort of a folded key
-        was 1.7 to 4 times as fast on the keys of a 250k-triangle bake in no
-        order, and no faster on keys nearly in order.
+        such entries apart passes False; every sort used is stable today, so
+        it only says that a faster unstable one would do.
 
     Returns
     -------
@@ -85,6 +94,8 @@ def sort_order(*keys, stable=True):
     keys = [np.asarray(key, dtype=np.int64) for key in keys]
     if not len(keys[0]):
         return np.zeros(0, dtype=np.int64)
+    while len(keys) > 1 and bool((keys[-1][1:] >= keys[-1][:-1]).all()):
+        keys.pop()
     spans = [int(key.max()) + 1 for key in keys]
     if float(np.prod(np.array(spans, dtype=np.float64))) >= 2.0**62:
         return np.lexsort(keys[::-1])
@@ -92,7 +103,44 @@ def sort_order(*keys, stable=True):
     for key, span in zip(keys[1:], spans[1:]):
         folded *= span
         folded += key
-    return np.argsort(folded, kind="stable" if stable else None)
+    span = int(np.prod(np.array(spans, dtype=np.float64)))
+    if len(folded) >= RADIX_FROM and not in_mesh_order(folded, span):
+        return radix_order(folded, span)
+    return np.argsort(folded, kind="stable")
+
+
+def in_mesh_order(key, span, samples=4096, near=2.0**-10, share=0.25):
+    """Whether ``key`` (n,) int64 in ``[0, span)`` looks read along a mesh: of ``samples`` neighbouring
+    pairs spread over it, at least ``share`` differ by less than ``near`` of the span (pairs of keys in no
+    order do so about ``2 * near`` of the time; in the bakes of the report's meshes and a 1M-triangle Suzanne 0.5 to 1)."""
+    if len(key) < 2:
+        return True
+    at = np.linspace(0, len(key) - 2, min(samples, len(key) - 1)).astype(np.int64)
+    return float((np.abs(key[at + 1] - key[at]) < near * span).mean()) >= share
+
+
+#: From this many entries :func:`sort_order` sorts by :func:`radix_order`: its fixed cost (a count of
+#: 65536 buckets a pass) is paid back from a few ten thousand entries.
+RADIX_FROM = 1 << 16
+
+
+def radix_order(key, span):
+    """Stable sorting order of a non-negative int64 ``key`` (n,) below ``span``, 16 bits a pass.
+
+    numpy's stable sort of 16-bit integers is a radix sort (one counting pass,
+    no comparisons), so sorting by each 16-bit digit in turn, least significant
+    first, is a radix sort of the whole key: on 1.5 to 3 million keys of a bake
+    under 2**32 it took a third of the time of ``np.argsort`` (either kind), and
+    under 2**42 two thirds.  (n,) int64, the same as ``np.argsort(key, kind="stable")``.
+    """
+    passes = max(1, (int(span) - 1).bit_length() + 15 >> 4)
+    order = np.argsort((key & 0xFFFF).astype(np.uint16), kind="stable")
+    if passes > 1 and len(key) < 2**31:
+        order = order.astype(np.int32)                  # half the bytes to gather in every later pass
+    for shift in range(16, 16 * passes, 16):
+        digit = ((key >> shift) & 0xFFFF).astype(np.uint16)
+        order = order[np.argsort(digit[order], kind="stable")]
+    return order.astype(np.int64)
 
 
 def group_starts(sorted_keys):

@@ -1,8 +1,9 @@
-"""core/arrays/graph.py's connected components against a plain search."""
+"""core/arrays/graph.py: connected components against a plain search, sorting orders against numpy's lexsort."""
 
 import numpy as np
 import pytest
 
+from seamless_ao.core.arrays import graph
 from seamless_ao.core.arrays.graph import connected_components, sort_order
 
 
@@ -53,3 +54,30 @@ def test_an_unstable_sort_order_sorts_the_same_keys():
     assert np.array_equal(np.sort(unstable), np.arange(20000))
     for key in keys:
         assert np.array_equal(key[stable], key[unstable])
+
+
+@pytest.mark.parametrize("shuffled", [False, True], ids=["in-mesh-order", "shuffled"])
+def test_sort_order_of_many_keys_is_lexsort_in_either_order(shuffled):
+    """Past RADIX_FROM entries: keys along a mesh (a grid's edges) go to numpy's merge sort, the same keys
+    shuffled to the radix sort; both must be lexsort's order, ties in input order."""
+    side = 300
+    vertex = np.arange(side * side).reshape(side, side)
+    quads = np.stack([vertex[:-1, :-1], vertex[:-1, 1:], vertex[1:, 1:], vertex[1:, :-1]], axis=-1).reshape(-1, 4)
+    start, end = quads.ravel(), np.roll(quads, -1, axis=1).ravel()
+    keys = [np.minimum(start, end), np.maximum(start, end), np.repeat(np.arange(len(quads)) % 5, 4)]
+    assert len(start) > graph.RADIX_FROM
+    if shuffled:
+        order = np.random.default_rng(8).permutation(len(start))
+        keys = [key[order] for key in keys]
+    folded = keys[0] * side * side + keys[1]
+    assert graph.in_mesh_order(folded, side**4) is not shuffled
+    assert np.array_equal(sort_order(*keys), np.lexsort(keys[::-1]))
+    assert np.array_equal(sort_order(*keys, stable=False), np.lexsort(keys[::-1]))
+
+
+def test_radix_order_is_a_stable_argsort():
+    rng = np.random.default_rng(9)
+    for bits in (1, 16, 17, 40, 62):
+        key = rng.integers(0, 2**bits, 200000)
+        key[::3] = key[0]                                # ties keep their input order
+        assert np.array_equal(graph.radix_order(key, 2**bits), np.argsort(key, kind="stable"))
