@@ -303,6 +303,8 @@ def _mix(value):
 
 #: Weights (magnitudes adding up to one) of the direction :func:`weld_vertices` sorts along first.
 _WELD_DIRECTION = np.array([0.5, 0.31, 0.19])
+#: Neighbours along that direction each vertex is measured against on every axis before the grids weld it.
+_WELD_WINDOW = 8
 
 
 def weld_vertices(positions, tolerance, groups=None):
@@ -345,18 +347,31 @@ def weld_vertices(positions, tolerance, groups=None):
     lowest = np.sort(lowest)
     # Two vertices share a cell of some shifted grid only if they lie less than a cell apart on every
     # axis, so less than one apart along any direction whose weights' magnitudes add up to one (an oblique
-    # one: flat walls and floors share x, y or z): the others are alone in every cell and weld with
-    # nothing (most vertices of most meshes).
+    # one: flat walls and floors share x, y or z).  Along it, each vertex is measured against those within
+    # one cell, up to _WELD_WINDOW of them each side: one that is a cell or more from all of them on some
+    # axis is alone in every cell and welds with nothing (most vertices of most meshes: a 1M-triangle
+    # sculpt has a vertex or two within a cell along that line, nearly never one within a cell on every axis).
     along = cell[lowest] @ _WELD_DIRECTION
-    reach = 1.0 + 1e-12 * float(np.abs(along).max(initial=0.0))          # and what rounding may add
+    reach = 1.0 + 1e-12 * float(np.abs(cell[lowest]).max(initial=0.0))     # and what rounding may add
     lowest_group = groups[lowest]
     by_along = np.lexsort((along, lowest_group))
-    sorted_group = lowest_group[by_along]
-    close = (sorted_group[1:] == sorted_group[:-1]) & (np.diff(along[by_along]) < reach)
-    by_along = lowest[by_along]
+    sorted_group, sorted_along = lowest_group[by_along], along[by_along]
+    sorted_cell = cell[lowest[by_along]].T                          # (3, w): one row per axis
+    near = np.zeros(len(by_along), dtype=bool)
+    for step in range(1, _WELD_WINDOW + 2):
+        pair = np.flatnonzero((sorted_along[step:] - sorted_along[:-step] < reach)
+                              & (sorted_group[step:] == sorted_group[:-step]))
+        if not len(pair):
+            break
+        if step <= _WELD_WINDOW:       # within a cell on every axis: it may share one
+            gap = np.abs(sorted_cell[:, pair + step] - sorted_cell[:, pair])
+            pair = pair[(gap[0] < reach) & (gap[1] < reach) & (gap[2] < reach)]
+        # past the window: vertices with more than _WELD_WINDOW within a cell along the line are not
+        # measured against all of them, so they are left to the grids
+        near[pair] = True
+        near[pair + step] = True
     lonely = np.ones(count, dtype=bool)
-    lonely[by_along[1:][close]] = False
-    lonely[by_along[:-1][close]] = False
+    lonely[lowest[by_along[near]]] = False
     lonely |= far
     others = lowest[~lonely[lowest]]                   # ascending: each cell's first is still its lowest
     cell, groups = cell[others], groups[others]

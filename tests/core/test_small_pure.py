@@ -348,7 +348,7 @@ def test_sample_repeat_hits_texel_centres_blends_between_them_and_wraps():
 def test_weld_vertices_joins_exactly_the_vertices_that_share_a_cell_of_a_shifted_grid(seed):
     """Against the rule the docstring states, pair by pair: two vertices of one group weld when some grid
     of cells ``tolerance`` wide, shifted by 0 or half a cell on each axis, holds both, and chains weld;
-    indices numbered in order of first occurrence.  Exact repeats, near repeats, walls that share a
+    indices numbered in order of first occurrence.  Exact repeats, near repeats, a crowd, walls that share a
     coordinate, groups with tolerances of their own."""
     rng = np.random.default_rng(seed)
     base = rng.uniform(0.0, 1.0, (300, 3))
@@ -356,7 +356,9 @@ def test_weld_vertices_joins_exactly_the_vertices_that_share_a_cell_of_a_shifted
     base[60:100, 2] = 0.75                                             # a floor
     tolerance_of_group = np.array([1e-3, 4e-3, 2e-4])
     near = base[rng.integers(0, 300, 250)] + rng.uniform(-6e-4, 6e-4, (250, 3))
-    positions = np.concatenate([base, base[rng.integers(0, 300, 100)], near])     # exact repeats too
+    # a crowd: more vertices within a cell of each other than the prune measures pair by pair
+    crowd = base[0] + rng.uniform(-3e-3, 3e-3, (40, 3))
+    positions = np.concatenate([base, base[rng.integers(0, 300, 100)], near, crowd])     # exact repeats too
     positions = positions[rng.permutation(len(positions))]
     groups = rng.integers(0, 3, len(positions))
     groups[:] = np.where(rng.random(len(positions)) < 0.7, 0, groups)
