@@ -118,16 +118,16 @@ class TriangleMesh:
         self.part_scale = np.array([self.scale])
         # kept: the clustering, injectivity, cutting and packing passes all read them
         corners = self.corners = self.positions[self.triangles]
-        self.triangle_cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-        length = np.linalg.norm(self.triangle_cross, axis=1)
+        first, second, third = corners[:, 0], corners[:, 1], corners[:, 2]
+        self.triangle_cross = np.cross(second - first, third - first)
+        length = _row_length(self.triangle_cross)
         self.triangle_area = 0.5 * length
-        opposite = corners[:, [2, 0, 1]] - corners[:, [1, 2, 0]]                  # (t, 3 corners, 3)
-        side = np.sqrt((opposite * opposite).sum(axis=2))
+        # each corner's opposite side, one (t, 3) array at a time (row lengths of a (t, 3, 3) stack cost more)
+        side = np.stack([_row_length(third - second), _row_length(first - third), _row_length(second - first)], axis=1)
         self.corner_height = length[:, None] / np.maximum(side, 1e-300)
         self.degenerate = self.triangle_area <= DEGENERATE_AREA * self.scale**2
         self.triangle_normal = np.zeros_like(self.triangle_cross)
-        ok = ~self.degenerate
-        self.triangle_normal[ok] = self.triangle_cross[ok] / length[ok, None]
+        np.divide(self.triangle_cross, length[:, None], out=self.triangle_normal, where=~self.degenerate[:, None])
         self.corner_normals = sanitized_normals(self.corner_normals, self.triangle_normal)
 
     @classmethod
