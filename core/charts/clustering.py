@@ -329,7 +329,9 @@ def cut_long_charts(mesh, charts, max_length):
             continue
         along = np.argmax(length, axis=1)                                     # (c,) 0 = u, 1 = v
         triangle, chart, uv = triangle[keep], chart[keep], uv[keep]
-        centre = uv.mean(axis=1)[np.arange(len(chart)), along[chart]]
+        side = along[chart]                                                   # each triangle's chart's long side
+        row = np.arange(len(chart))
+        centre = (uv[row, 0, side] + uv[row, 1, side] + uv[row, 2, side]) / 3.0     # uv.mean(axis=1)'s sums, one side
         start, span = low[chart, along[chart]], length[chart, along[chart]]
         slab = np.clip((centre - start) / span * pieces[chart], 0, pieces[chart] - 1).astype(np.int64)
         face = mesh.triangle_face[triangle]
