@@ -119,8 +119,8 @@ def in_mesh_order(key, span, samples=4096, near=2.0**-10, share=0.25):
     return float((np.abs(key[at + 1] - key[at]) < near * span).mean()) >= share
 
 
-#: From this many entries :func:`sort_order` sorts by :func:`radix_order`: its fixed cost (a count of
-#: 65536 buckets a pass) is paid back from a few ten thousand entries.
+#: From this many entries :func:`sort_order` sorts keys in no order by :func:`radix_order`: its fixed cost
+#: (a count of 65536 buckets a pass) is paid back from a few ten thousand entries.
 RADIX_FROM = 1 << 16
 
 
