@@ -3,6 +3,8 @@
 Nodes are ``0 .. count-1``; edges are ``(m, 2) int`` arrays of node pairs.
 """
 
+import math
+
 import numpy as np
 
 
@@ -97,15 +99,15 @@ def sort_order(*keys, stable=True):
     while len(keys) > 1 and bool((keys[-1][1:] >= keys[-1][:-1]).all()):
         keys.pop()
     spans = [int(key.max()) + 1 for key in keys]
-    if float(np.prod(np.array(spans, dtype=np.float64))) >= 2.0**62:
+    folded_span = math.prod(spans)                          # Python ints: exact
+    if folded_span >= 2**62:
         return np.lexsort(keys[::-1])
     folded = keys[0].copy()
     for key, span in zip(keys[1:], spans[1:]):
         folded *= span
         folded += key
-    span = int(np.prod(np.array(spans, dtype=np.float64)))
-    if len(folded) >= RADIX_FROM and not in_mesh_order(folded, span):
-        return radix_order(folded, span)
+    if len(folded) >= RADIX_FROM and not in_mesh_order(folded, folded_span):
+        return radix_order(folded, folded_span)
     return np.argsort(folded, kind="stable")
 
 
