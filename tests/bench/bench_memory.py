@@ -17,7 +17,7 @@ import pathlib
 import subprocess
 import sys
 
-from common import finish, markdown_table, say
+from common import finish, markdown_table, process_peak_mb, resident_mb, say
 
 #: How far the estimate after layout may stray from the measured peak growth, either way.
 TOLERATED = 0.30
@@ -33,17 +33,8 @@ CASES = {                     # name: (mesh, image size)
 }
 
 
-def resident_mb():
-    for line in open("/proc/self/status"):
-        if line.startswith("VmRSS:"):
-            return int(line.split()[1]) / 1024.0
-    return 0.0
-
-
 def measure(mesh_name, image_size):
     """In this process: (estimated MB, measured MB, triangles, texels)."""
-    import resource
-
     import bpy
 
     import package
@@ -68,9 +59,9 @@ def measure(mesh_name, image_size):
         return original(settings, triangles, pixels, texels)
     sys.modules["seamless_ao.core.pipeline"].check_budget = noting      # where the bake asks the budget
     before = resident_mb()
-    peak_before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    peak_before = process_peak_mb()
     report = package.seamless_ao.bake([ob], image_size=image_size, rays=16)
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    peak = process_peak_mb()
     return dict(first_estimate=estimates[0], layout_estimate=estimates[-1], measured=peak - before,
                 peak_before=peak_before, before=before, triangles=sum(len(p.polygons) for p in [ob.data]),
                 texels=report.texels)

@@ -25,7 +25,7 @@ import pathlib
 import subprocess
 import sys
 
-from common import finish, markdown_table, say
+from common import finish, markdown_table, process_peak_mb, resident_mb, say
 
 import report
 from quality_promises import cheapest_reaching
@@ -127,8 +127,6 @@ def peak_memory(name):
 
 
 def measure_memory(name):
-    from bench_memory import resident_mb
-    from common import process_peak_mb
     ob = fresh(name)
     before = resident_mb()
     size, rays = MEMORY_SETTING
