@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..arrays.geometry2d import group_boxes
-from ..charts.clustering import project
+from ..charts.clustering import project_corners
 from ..errors import SeamlessAOError
 from ..mesh.extent import mesh_size
 from .cover import chart_covers
@@ -215,7 +215,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     if (image_size is None) == (density is None):
         raise ValueError("give exactly one of image_size and density")
     member_triangle, member_chart, membership = chart_members(mesh, charts)
-    local_uv, _ = project(mesh.corners[member_triangle], charts.chart_axis[member_chart][:, None])
+    local_uv = project_corners(mesh, member_triangle, charts.chart_axis[member_chart])
     live = ~mesh.degenerate[member_triangle]
     if not live.any():
         raise SeamlessAOError("The mesh has no face with area; there is nothing to pack")
@@ -265,7 +265,7 @@ def _members_with_orphans(mesh, topology, charts, membership, member_triangle, m
     dominant axis (an orphan's own)."""
     orphan_triangle, orphan_chart = _adopt_orphans(mesh, topology, charts)
     if len(orphan_triangle):
-        orphan_local, _ = project(mesh.corners[orphan_triangle], charts.chart_axis[orphan_chart][:, None])
+        orphan_local = project_corners(mesh, orphan_triangle, charts.chart_axis[orphan_chart])
         orphan_local *= factor[orphan_chart][:, None, None]
         member_uv = np.concatenate([member_uv, _apply(transforms[orphan_chart], orphan_local)])
         member_triangle = np.concatenate([member_triangle, orphan_triangle])

@@ -87,6 +87,32 @@ def project(points, signed_axis, axis=None):
     return uv.reshape(shape + (2,)), depth.reshape(shape)
 
 
+def project_corners(mesh, triangles, signed_axis, axis=None):
+    """The corners of some triangles on the chart planes of their signed axes, read from the vertices:
+    ``project(mesh.corners[triangles], signed_axis[:, None], axis)[0]`` (the same values) without copying
+    every corner's three coordinates first (at a million triangles the copy took longer than the rest).
+
+    Parameters
+    ----------
+    mesh : TriangleMesh
+    triangles : (k,) int
+    signed_axis : (k,) int, 0..5
+    axis : int, optional, the one axis every ``signed_axis`` lies on, when the caller knows
+
+    Returns
+    -------
+    uv : (k, 3, 2) float64, object units
+    """
+    signed_axis = np.asarray(signed_axis)
+    corner_at = mesh.triangles[triangles] * 3                                 # (k, 3) into the flat positions
+    flat = mesh.positions.ravel()
+    on_axis = signed_axis // 2 if axis is None else axis
+    uv = np.empty(corner_at.shape + (2,))
+    uv[..., 0] = flat[corner_at + np.reshape(_U_COMPONENT[on_axis], (-1, 1))] * _U_SIGN[signed_axis][:, None]
+    uv[..., 1] = flat[corner_at + np.reshape(_V_COMPONENT[on_axis], (-1, 1))] * _V_SIGN[signed_axis][:, None]
+    return uv
+
+
 # The same bases as BASES, as component indices and signs (for speed).
 _U_COMPONENT = np.abs(BASES[::2, 0]).argmax(axis=1)
 _V_COMPONENT = np.abs(BASES[::2, 1]).argmax(axis=1)
@@ -311,14 +337,13 @@ def cut_long_charts(mesh, charts, max_length):
     -------
     Charts, renumbered if anything was cut.
     """
-    corners = mesh.corners                                                    # (t, 3, 3)
     chart_of_face = charts.chart_of_face.copy()
     chart_axis = charts.chart_axis
     for axis in range(3):
         column = chart_of_face[:, axis]
         triangle = np.flatnonzero(column[mesh.triangle_face] >= 0)
         chart = column[mesh.triangle_face[triangle]]
-        uv, _ = project(corners[triangle], chart_axis[chart][:, None], axis)
+        uv = project_corners(mesh, triangle, chart_axis[chart], axis)
         low, high = group_boxes(uv, chart, len(chart_axis))
         length = np.where(np.isfinite(low), high - low, 0.0)
         # slabs as a float count: a spike to a stray vertex makes its chart 10^9 slabs long, few of them used
