@@ -122,7 +122,11 @@ class BakeSession:
                 numbers = outcome.numbers
             else:
                 # each part's occluders were read and culled to its ray reach in _read_meshes
-                self.pipeline = BakePipeline([arrays.mesh() for arrays in meshes], self.matrices, self.settings,
+                triangle_meshes = [arrays.mesh() for arrays in meshes]
+                # the arrays as read are done with: their float32 corner normals alone are 36 MB a million
+                # triangles, held through the whole bake beside the mesh's own
+                meshes = None
+                self.pipeline = BakePipeline(triangle_meshes, self.matrices, self.settings,
                                              caster_maker(self.settings), occluders, free_casters, self._shown())
                 yield from self.pipeline.steps()
                 outcome = self.pipeline.result
