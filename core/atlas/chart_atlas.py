@@ -397,8 +397,8 @@ def _times(ratio):
 
 def _chart_centres(mesh, member_triangle, member_chart, chart_count):
     """(c, 3) mean of the triangle centres of each chart (object units)."""
-    corners = mesh.corners
-    centre = ((corners[:, 0] + corners[:, 1] + corners[:, 2]) / 3.0)[member_triangle]
+    first, second, third = (mesh.positions[mesh.triangles[member_triangle, k]] for k in range(3))
+    centre = (first + second + third) / 3.0
     count = np.maximum(np.bincount(member_chart, minlength=chart_count), 1)
     return np.stack([np.bincount(member_chart, centre[:, k], chart_count) for k in range(3)], axis=1) / count[:, None]
 

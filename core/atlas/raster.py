@@ -377,7 +377,7 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     y = (index // texels.width).astype(np.float64) + 0.5
     triangle = atlas.member_triangle[member]
     b0, b1, b2 = closest_barycentric(atlas.member_uv[member], x, y)
-    corners = mesh.corners[triangle]                                        # (k, 3, 3)
+    corners = mesh.positions[mesh.triangles[triangle]]                     # (k, 3, 3)
     points = b0[:, None] * corners[:, 0] + b1[:, None] * corners[:, 1] + b2[:, None] * corners[:, 2]
     inset = RIM_INSET * mesh.triangle_scale[triangle]
     points = _inset_rim_points(points, _rim_distance(mesh, triangle, (b0, b1, b2)) < inset, corners.mean(axis=1),

@@ -87,21 +87,23 @@ def project(points, signed_axis, axis=None):
     return uv.reshape(shape + (2,)), depth.reshape(shape)
 
 
-def project_corners(mesh, triangles, signed_axis, axis=None):
+def project_corners(mesh, triangles, signed_axis, axis=None, depth=False):
     """The corners of some triangles on the chart planes of their signed axes, read from the vertices:
-    ``project(mesh.corners[triangles], signed_axis[:, None], axis)[0]`` (the same values) without copying
-    every corner's three coordinates first (at a million triangles the copy took longer than the rest).
+    ``project(mesh.corners[triangles], signed_axis[:, None], axis)`` (the same values) without a (k, 3, 3)
+    copy of every corner first (at a million triangles the copy took longer than the rest).
 
     Parameters
     ----------
     mesh : TriangleMesh
-    triangles : (k,) int
+    triangles : (k,) int, or ``slice(None)`` for all of them
     signed_axis : (k,) int, 0..5
     axis : int, optional, the one axis every ``signed_axis`` lies on, when the caller knows
+    depth : bool, also return the depths
 
     Returns
     -------
     uv : (k, 3, 2) float64, object units
+    depth : (k, 3) float64, distance along the signed axis (only if asked)
     """
     signed_axis = np.asarray(signed_axis)
     corner_at = mesh.triangles[triangles] * 3                                 # (k, 3) into the flat positions
@@ -110,7 +112,9 @@ def project_corners(mesh, triangles, signed_axis, axis=None):
     uv = np.empty(corner_at.shape + (2,))
     uv[..., 0] = flat[corner_at + np.reshape(_U_COMPONENT[on_axis], (-1, 1))] * _U_SIGN[signed_axis][:, None]
     uv[..., 1] = flat[corner_at + np.reshape(_V_COMPONENT[on_axis], (-1, 1))] * _V_SIGN[signed_axis][:, None]
-    return uv
+    if not depth:
+        return uv
+    return uv, flat[corner_at + np.reshape(on_axis, (-1, 1))] * _DEPTH_SIGN[signed_axis][:, None]
 
 
 # The same bases as BASES, as component indices and signs (for speed).
@@ -267,7 +271,7 @@ def triangle_chart_geometry(mesh, charts, axis):
     group = charts.chart_of_face[mesh.triangle_face, axis].copy()
     group[mesh.degenerate] = -1
     signed = np.where(group >= 0, charts.chart_axis[np.maximum(group, 0)], 2 * axis)
-    uv, depth = project(mesh.corners, signed[:, None], axis)
+    uv, depth = project_corners(mesh, slice(None), signed, axis, depth=True)
     # the normal's component along the signed axis (AXES rows are unit axes)
     cos = np.clip(mesh.triangle_normal[:, axis] * _DEPTH_SIGN[signed], 0.05, 1.0)
     slope = np.sqrt(1.0 - cos**2) / cos

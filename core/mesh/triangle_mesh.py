@@ -72,7 +72,8 @@ class TriangleMesh:
         Each part's own ``scale``: its tolerances (welding, degenerate
         triangles, injectivity, rim inset) are relative to it.
     corners : (t, 3, 3) float64
-        ``positions[triangles]``, computed once.
+        ``positions[triangles]``, a new copy each use (72 MB a million
+        triangles: a bake's passes read the vertices instead).
     corner_height : (t, 3) float64
         Each triangle's height over the side opposite each corner (0 for a
         degenerate triangle): a point at barycentrics ``b`` is ``min(b *
@@ -94,7 +95,6 @@ class TriangleMesh:
     triangle_area: np.ndarray = field(init=False, repr=False, default=None)
     triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
     degenerate: np.ndarray = field(init=False, repr=False, default=None)
-    corners: np.ndarray = field(init=False, repr=False, default=None)
     corner_height: np.ndarray = field(init=False, repr=False, default=None)
 
     def __post_init__(self):
@@ -116,8 +116,7 @@ class TriangleMesh:
         self.scale = box_size(low, high) if t else mesh_size(self.positions)
         self.part_of_vertex = np.zeros(len(self.positions), dtype=np.int64)
         self.part_scale = np.array([self.scale])
-        # kept: the clustering, injectivity, cutting and packing passes all read them
-        corners = self.corners = self.positions[self.triangles]
+        corners = self.positions[self.triangles]
         first, second, third = corners[:, 0], corners[:, 1], corners[:, 2]
         self.triangle_cross = np.cross(second - first, third - first)
         length = _row_length(self.triangle_cross)
@@ -168,6 +167,8 @@ class TriangleMesh:
         combined.part_of_vertex = np.repeat(np.arange(len(meshes)), np.diff(vertex_offsets))
         combined.part_scale = np.array([m.scale for m in meshes], dtype=np.float64)
         return combined, np.cumsum([0] + [len(m.triangles) for m in meshes])
+
+    corners = property(lambda self: self.positions[self.triangles], doc="(t, 3, 3) float64, a new copy each use")
 
     @property
     def vertex_scale(self):
