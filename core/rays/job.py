@@ -58,10 +58,10 @@ class AOJob:
     (:attr:`.ray_setup.RayCaster.bakes_whole_texels`, its ``ambient_occlusion``: the
     Blender side's Cycles caster), each texel's first
     :data:`BULK_PILOT_RAYS` rays are cast ray by ray (they tell which texels
-    are buried; the rays that find the creases are too), and the remaining
-    rays of every texel, and all rays at the creases, are left to that
-    method, in steps of about :data:`BULK_STEP_SECONDS`, with no adaptive
-    stop (such a caster's rays cost a fraction of the pilot's).  A
+    are buried; the rays that find the creases are too, right after them),
+    and the remaining rays of every texel, and all rays at the creases, are
+    left to that method, in steps of about :data:`BULK_STEP_SECONDS`, with no
+    adaptive stop (such a caster's rays cost a fraction of the pilot's).  A
     part with fewer than :data:`BULK_LEAST_RAYS` rays after such a pilot is
     cast as if its caster could not: its own pilot, the adaptive stop, ray by
     ray.
@@ -237,7 +237,7 @@ class AOJob:
         line), so it is shaded at the crease instead: the point where a ray
         from its visible neighbour's point towards its own first meets the
         other piece, which is the last visible point between them.  Deeper
-        buried texels keep their AO (never read at a visible point).
+        buried texels keep their AO (never read at a visible point).  Returns the rim texels (k,) int.
         """
         self.creased = True
         computed = self.computed
@@ -245,7 +245,7 @@ class AOJob:
                                                self.params)
         rim, donor = self.targets.rim(self.buried, computed)
         if not len(rim):
-            return
+            return rim
         part_of = self.targets.part_of(rim)
         order = np.lexsort((self.targets.ids[rim], part_of))
         rim, donor, part_of = rim[order], donor[order], part_of[order]
@@ -268,6 +268,7 @@ class AOJob:
                 self.passes.append(RayPass(rim[mine], np.arange(self.params.rays),
                                            (points[mine], normals[mine], geometric[mine]), by_whole))
         self.work_expected = self.work_done + len(rim) * self.params.rays
+        return rim
 
     def _ray_geometry(self, ray_part, selection):
         """Point, shading normal and geometric normal (k, 3) of some targets, in their part's ray space."""
@@ -289,10 +290,23 @@ class AOJob:
                                    rays=self.ray_count[selection])
             self.sums[selection] = sums
             self.settled[selection[decided]] = True
+        # Where every part bakes whole texels, only the pilot's rays can tell the buried texels (Cycles' AO
+        # cannot), so the creases are found now: their rim texels, shaded again at the crease, skip the bulk,
+        # and no single ray is cast after this, so the casters may let go of what casting them needs (the
+        # Cycles caster: Blender's BVH of the occluders, beside which Cycles would build its own).
+        skip = np.zeros(len(self.sums), dtype=bool)
+        crease_passes = []
+        if len(self.parts) and self.whole_parts.all():
+            before = len(self.passes)
+            skip[self._queue_creases()] = True
+            crease_passes, self.passes = self.passes[before:], self.passes[:before]
+            for part in self.parts:
+                part.caster.casting_done()
         for remaining in self.remaining:
-            todo = remaining.texels[~self.settled[remaining.texels]]
+            todo = remaining.texels[~self.settled[remaining.texels] & ~skip[remaining.texels]]
             if len(remaining.rays) and len(todo):
                 self.passes.append(remaining._replace(texels=todo))
+        self.passes += crease_passes
         self.remaining = []
         self.work_expected = self.work_done + sum(len(p.texels) * len(p.rays) for p in self.passes)
 

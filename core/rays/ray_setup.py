@@ -116,6 +116,10 @@ class RayCaster:
         """The open fraction (k,) of ``samples`` rays at each point (k, 3), where :attr:`bakes_whole_texels`."""
         raise NotImplementedError("the {} caster casts single rays only".format(self.name))
 
+    def casting_done(self):
+        """No more :meth:`cast` calls are coming, only :meth:`ambient_occlusion` ones: a caster may let go of
+        what casting single rays needs (:class:`.job.AOJob` says so once its pilot and creases are cast)."""
+
     def free(self):
         """Let go of what the caster holds (safe to call twice)."""
 

@@ -21,7 +21,7 @@ from ...core.keys import TEMP_PREFIX
 from ...core.rays.ray_setup import BVHCaster, RayCaster
 from ...shaders.raycast_nodes import raycast_group
 from .cycles_caster import CyclesAmbientOcclusion, cycles_enabled
-from .mesh_data import mesh_from_triangles
+from .mesh_data import loop_vertices, mesh_from_triangles, vertex_positions
 
 
 class NodesCaster(RayCaster):
@@ -44,6 +44,17 @@ class NodesCaster(RayCaster):
         occluder_mesh.attributes.new("sealed", "FLOAT", "FACE").data.foreach_set("value", flag)
         self.occluder = self._temporary(bpy.data.objects.new(TEMP_PREFIX + "occluders", occluder_mesh))
         self.scene.collection.objects.link(self.occluder)
+        # Hide the occluder from the render, it only serves as the node's target.
+        self.occluder.hide_render = True
+        self.points = None
+        self._set_up_raycast()
+
+    def _temporary(self, datablock):
+        self._datablocks.append(datablock)
+        return datablock
+
+    def _set_up_raycast(self):
+        """The points that cast the rays and their Raycast node group."""
         self.points_mesh = self._temporary(bpy.data.meshes.new(TEMP_PREFIX + "rays"))
         self.points = self._temporary(bpy.data.objects.new(TEMP_PREFIX + "rays", self.points_mesh))
         self.scene.collection.objects.link(self.points)
@@ -51,14 +62,29 @@ class NodesCaster(RayCaster):
         self._temporary(self.group)
         modifier = self.points.modifiers.new("raycast", "NODES")
         modifier.node_group = self.group
-        # Hide the occluder from the render, it only serves as the node's target.
-        self.occluder.hide_render = True
 
-    def _temporary(self, datablock):
-        self._datablocks.append(datablock)
-        return datablock
+    def _release_raycast(self):
+        """Remove the points and their node group, and give the occluder a new mesh of the same triangles:
+        Blender keeps the BVH the Raycast node built (160 MB a million triangles) with the mesh it was built
+        for.  A later :meth:`cast` sets it all up again."""
+        if self.points is None:
+            return
+        old = self.occluder.data
+        mesh = mesh_from_triangles(TEMP_PREFIX + "occluders", vertex_positions(old).reshape(-1, 3),
+                                   loop_vertices(old).reshape(-1, 3))
+        self._temporary(mesh)
+        flag = np.empty(len(old.polygons), dtype=np.float32)
+        old.attributes["sealed"].data.foreach_get("value", flag)
+        mesh.attributes.new("sealed", "FLOAT", "FACE").data.foreach_set("value", flag)
+        self.occluder.data = mesh
+        released = [self.points, self.points_mesh, self.group, old]
+        self._datablocks = [block for block in self._datablocks if block not in released]
+        bpy.data.batch_remove(released)
+        self.points = self.points_mesh = self.group = self.cast_node = None
 
     def cast(self, origins, directions, max_distance):
+        if self.points is None:
+            self._set_up_raycast()
         count = len(origins)
         distance = np.full(count, np.inf)
         facing = np.zeros(count)
@@ -103,6 +129,11 @@ class CyclesCaster(CyclesAmbientOcclusion, NodesCaster):
         super().__init__(positions, triangles, sealed)
         # Cycles' device is asked for at its first bake: a bake whose rays all go to the node never asks
         self.device, self.warnings = None, []
+
+    def casting_done(self):
+        """Only Cycles bakes are left: let go of the Raycast node's set-up, and Blender's BVH with it, before
+        Cycles builds its own (:meth:`NodesCaster._release_raycast`)."""
+        self._release_raycast()
 
 
 def free_casters(casters):

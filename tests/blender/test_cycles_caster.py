@@ -38,6 +38,45 @@ def test_cycles_ao_under_a_ceiling_is_the_closed_form(fresh_scene, reach):
     assert np.allclose(open_fraction[count // 2:], 1.0)
 
 
+def test_done_casting_the_cycles_caster_drops_the_raycast_set_up_and_still_bakes_and_casts(fresh_scene):
+    """casting_done: the points, their node group and the occluder mesh the Raycast node built its BVH for
+    are removed, a new mesh of the same triangles (and sealed flags) takes the occluder's place; Cycles
+    still sees the ceiling, a later cast sets the node up again and hits where it hit before, and free()
+    leaves no datablock of the caster's."""
+    import bpy
+
+    from seamless_ao.core.keys import TEMP_PREFIX
+
+    ceiling = np.array([[-60.0, -60.0, 1.0], [60.0, -60.0, 1.0], [60.0, 60.0, 1.0], [-60.0, 60.0, 1.0]])
+    caster = CyclesCaster(ceiling, np.array([[0, 2, 1], [0, 3, 2]]), np.array([True, False]))
+    try:
+        origins = np.column_stack([np.linspace(-1.0, 1.0, 8), np.zeros(8), np.zeros(8)])
+        up = np.tile([0.0, 0.0, 1.0], (8, 1))
+        before = caster.cast(origins, up, 5.0)
+        raycast = [caster.points.name, caster.points_mesh.name, caster.group.name]
+        old_mesh = caster.occluder.data.name
+        caster.casting_done()
+        assert caster.points is None and raycast[0] not in bpy.data.objects
+        assert raycast[1] not in bpy.data.meshes and raycast[2] not in bpy.data.node_groups
+        assert old_mesh not in bpy.data.meshes
+        mesh = caster.occluder.data
+        assert len(mesh.polygons) == 2 and len(mesh.vertices) == 4
+        flags = np.empty(2, dtype=np.float32)
+        mesh.attributes["sealed"].data.foreach_get("value", flags)
+        assert flags.tolist() == [1.0, 0.0]
+        open_fraction = caster.ambient_occlusion(origins, up, up, 64, AOParams(rays=64, max_distance=2.0, offset=1e-4))
+        assert (np.abs(open_fraction - 0.25) < 0.2).all()       # 1 / reach²: the ceiling is still there
+        after = caster.cast(origins, up, 5.0)
+        for got, want in zip(after, before):
+            assert np.array_equal(got, want)
+        assert np.allclose(before[0], 1.0) and before[2].any() and not before[2].all()
+    finally:
+        caster.free()
+    left = [d.name for kind in ("scenes", "objects", "meshes", "node_groups", "worlds")
+            for d in getattr(bpy.data, kind) if d.name.startswith(TEMP_PREFIX)]
+    assert not left, left
+
+
 def test_a_cycles_bake_shows_the_geometry_nodes_bake_and_leaves_nothing_behind(addon, fresh_scene):
     """Suzanne on a floor, baked with each caster: the same AO within the rays' noise, every datablock the
     Cycles caster made removed, and the scene's render engine and world as they were."""

@@ -123,7 +123,8 @@ def test_texel_targets_give_every_selection_the_geometry_of_its_own_texels(torus
 
 class WholeTexelCaster(BVHCaster):
     """A BVH caster that also shades whole texels (as the Blender side's Cycles caster does): every texel
-    it is asked for is open by ``open_fraction``; it records each call's texel count and samples."""
+    it is asked for is open by ``open_fraction``; it records each call's texel count and samples, and how
+    many calls came before it was told casting was done (after which it refuses to cast)."""
 
     bakes_whole_texels = True
 
@@ -132,10 +133,16 @@ class WholeTexelCaster(BVHCaster):
         self.open_fraction = open_fraction
         self.rays_cast = 0
         self.calls = []
+        self.done_after = None
 
     def cast(self, origins, directions, max_distance):
+        assert self.done_after is None, "a ray cast after casting_done"
         self.rays_cast += len(origins)
         return super().cast(origins, directions, max_distance)
+
+    def casting_done(self):
+        assert self.done_after is None, "casting_done twice"
+        self.done_after = len(self.calls)
 
     def ambient_occlusion(self, points, normals, geometric, samples, params):
         self.calls.append((len(points), samples))
@@ -201,6 +208,8 @@ def test_a_small_part_keeps_its_rays_with_the_node_and_a_large_one_hands_them_ov
     assert sum(count for count, _ in big.calls) == texels_of[0] and big.rays_cast == BULK_PILOT_RAYS * texels_of[0]
     assert not job.settled[computed[part_of == 0]].any()
     assert not little.calls
+    # the small part casts ray by ray to the end (its buried texels follow all its rays): nobody is done
+    assert big.done_after is None and little.done_after is None
     in_little = computed[part_of == 1]
     assert job.settled[in_little].any()                       # the adaptive stop, as without Cycles
     assert np.array_equal(job.sums[in_little], plain.sums[in_little])
@@ -228,3 +237,8 @@ def test_a_whole_texel_caster_shades_the_creases_too(monkeypatch):
     creased = np.isclose(job.ao, 0.3, atol=1e-6) & job.computed
     assert creased.sum() == sum(crease_calls)
     assert not job.buried[creased].any() and np.isfinite(job.ao).all()
+    # The creases are found right after the pilot: the caster is told no ray comes after them before its
+    # first bake (its cast refuses any later ray), and their rim texels get no bulk rays of their own
+    # points, which their crease would throw away: every texel is shaded by one call.
+    assert part.caster.done_after == 0
+    assert sum(count for count, _ in part.caster.calls) == job.computed.sum()
