@@ -21,7 +21,7 @@ from ...core.keys import TEMP_PREFIX
 from ...core.rays.ray_setup import BVHCaster, RayCaster
 from ...shaders.raycast_nodes import raycast_group
 from .cycles_caster import CyclesAmbientOcclusion, cycles_enabled
-from .mesh_data import loop_vertices, mesh_from_triangles, vertex_positions
+from .mesh_data import mesh_from_triangles
 
 
 class NodesCaster(RayCaster):
@@ -64,18 +64,16 @@ class NodesCaster(RayCaster):
         modifier.node_group = self.group
 
     def _release_raycast(self):
-        """Remove the points and their node group, and give the occluder a new mesh of the same triangles:
-        Blender keeps the BVH the Raycast node built (160 MB a million triangles) with the mesh it was built
-        for.  A later :meth:`cast` sets it all up again."""
+        """Remove the points and their node group, and give the occluder a copy of its mesh: Blender keeps the
+        BVH the Raycast node built (160 MB a million triangles) with the mesh it was built for.  The copy
+        shares the mesh's arrays, and moving one vertex onto itself tells Blender its positions changed, so
+        the copy lets go of that BVH too.  A later :meth:`cast` sets it all up again."""
         if self.points is None:
             return
         old = self.occluder.data
-        mesh = mesh_from_triangles(TEMP_PREFIX + "occluders", vertex_positions(old).reshape(-1, 3),
-                                   loop_vertices(old).reshape(-1, 3))
-        self._temporary(mesh)
-        flag = np.empty(len(old.polygons), dtype=np.float32)
-        old.attributes["sealed"].data.foreach_get("value", flag)
-        mesh.attributes.new("sealed", "FLOAT", "FACE").data.foreach_set("value", flag)
+        mesh = self._temporary(old.copy())
+        if len(mesh.vertices):
+            mesh.vertices[0].co = mesh.vertices[0].co
         self.occluder.data = mesh
         released = [self.points, self.points_mesh, self.group, old]
         self._datablocks = [block for block in self._datablocks if block not in released]
