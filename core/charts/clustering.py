@@ -260,8 +260,9 @@ def signed_axis_clusters(mesh, topology, compare_angle=60.0):
     return Charts(chart_of_face, np.array(chart_axis, dtype=np.int64), dominant.astype(np.int64))
 
 
-def triangle_chart_geometry(mesh, charts, axis):
-    """Triangles of the charts on one axis, projected.
+def triangle_chart_geometry(mesh, charts, axis, corners=None):
+    """Triangles of the charts on one axis, projected (from ``corners``, ``mesh.corners``, where the caller
+    has them: a caller going through all three axes gathers them once, not once per axis).
 
     Returns
     -------
@@ -271,7 +272,10 @@ def triangle_chart_geometry(mesh, charts, axis):
     group = charts.chart_of_face[mesh.triangle_face, axis].copy()
     group[mesh.degenerate] = -1
     signed = np.where(group >= 0, charts.chart_axis[np.maximum(group, 0)], 2 * axis)
-    uv, depth = project_corners(mesh, slice(None), signed, axis, depth=True)
+    if corners is None:
+        uv, depth = project_corners(mesh, slice(None), signed, axis, depth=True)
+    else:
+        uv, depth = project(corners, signed[:, None], axis)
     # the normal's component along the signed axis (AXES rows are unit axes)
     cos = np.clip(mesh.triangle_normal[:, axis] * _DEPTH_SIGN[signed], 0.05, 1.0)
     slope = np.sqrt(1.0 - cos**2) / cos
@@ -299,10 +303,11 @@ def make_injective(mesh, topology, charts, margin=0.0):
     chart_of_face = charts.chart_of_face.copy()
     chart_axis = charts.chart_axis.copy()
     triangle_scale = mesh.triangle_scale
+    corners = mesh.corners                       # (t, 3, 3): each axis projects all of them; freed on return
     for axis in range(3):
         dirty = None                     # charts to check; None = all of this axis
         # A split chart keeps its signed axis, so the projection is the same every round.
-        _, uv, depth, slope = triangle_chart_geometry(mesh, charts, axis)
+        _, uv, depth, slope = triangle_chart_geometry(mesh, charts, axis, corners)
         memory = FoldMemory(len(mesh.triangles))
         while True:
             group = chart_of_face[mesh.triangle_face, axis].copy()
