@@ -102,6 +102,7 @@ class AOJob:
         self.cast_count = np.zeros(count, dtype=np.int64)        # rays cast
         self.buried = np.zeros(count, dtype=bool)
         self.settled = np.zeros(count, dtype=bool)
+        self.at_crease = np.zeros(count, dtype=bool)            # shaded at a crease found before the bulk
         self.creased = False
         self.rays_cast = 0
         self.seconds = 0.0
@@ -206,9 +207,13 @@ class AOJob:
         """A batch of texels' remaining rays, shaded by their parts' casters' ``ambient_occlusion``."""
         queue, samples = self.passes[0].texels, len(self.passes[0].rays)
         batch = queue[self.position:self.position + max(1, self.bulk_rays // max(samples, 1))]
+        at_own_points = self.passes[0].given is None
         for selection, ray_part, (points, normals, geometric) in self._batch_by_part(batch, self.passes[0].given):
             open_fraction = ray_part.caster.ambient_occlusion(points, normals, geometric, samples, ray_part.params)
-            self.sums[selection] += (1.0 - np.clip(np.nan_to_num(open_fraction), 0.0, 1.0)) * samples
+            occluded = (1.0 - np.clip(np.nan_to_num(open_fraction), 0.0, 1.0)) * samples
+            if at_own_points:
+                occluded[self.at_crease[selection]] = 0.0        # shaded at its crease instead
+            self.sums[selection] += occluded
         self.bulk_rays = self._next(queue, len(batch), samples, start, self.bulk_rays, BULK_STEP_SECONDS, 1 << 26)
         return self.fraction
 
@@ -291,19 +296,20 @@ class AOJob:
             self.sums[selection] = sums
             self.settled[selection[decided]] = True
         # Where every part bakes whole texels, only the pilot's rays can tell the buried texels (Cycles' AO
-        # cannot), so the creases are found now: their rim texels, shaded again at the crease, skip the bulk,
-        # and no single ray is cast after this, so the casters may let go of what casting them needs (the
-        # Cycles caster: Blender's BVH of the occluders, beside which Cycles would build its own).
-        skip = np.zeros(len(self.sums), dtype=bool)
+        # cannot), so the creases are found now, and no single ray is cast after this: the casters may let go
+        # of what casting them needs (the Cycles caster: Blender's BVH of the occluders, beside which Cycles
+        # would build its own).  The rim texels, shaded again at the crease, stay in the bulk's batches (so
+        # every other texel gets the same Cycles pixel, and samples, as with the creases found last), but
+        # what the bulk finds at their own points is not counted.
         crease_passes = []
         if len(self.parts) and self.whole_parts.all():
             before = len(self.passes)
-            skip[self._queue_creases()] = True
+            self.at_crease[self._queue_creases()] = True
             crease_passes, self.passes = self.passes[before:], self.passes[:before]
             for part in self.parts:
                 part.caster.casting_done()
         for remaining in self.remaining:
-            todo = remaining.texels[~self.settled[remaining.texels] & ~skip[remaining.texels]]
+            todo = remaining.texels[~self.settled[remaining.texels]]
             if len(remaining.rays) and len(todo):
                 self.passes.append(remaining._replace(texels=todo))
         self.passes += crease_passes

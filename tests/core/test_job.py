@@ -238,7 +238,7 @@ def test_a_whole_texel_caster_shades_the_creases_too(monkeypatch):
     assert creased.sum() == sum(crease_calls)
     assert not job.buried[creased].any() and np.isfinite(job.ao).all()
     # The creases are found right after the pilot: the caster is told no ray comes after them before its
-    # first bake (its cast refuses any later ray), and their rim texels get no bulk rays of their own
-    # points, which their crease would throw away: every texel is shaded by one call.
+    # first bake (its cast refuses any later ray).  Their rim texels stay in the bulk's batches (every
+    # texel's Cycles pixel as when the creases came last), and only their crease counts: 0.3 exactly.
     assert part.caster.done_after == 0
-    assert sum(count for count, _ in part.caster.calls) == job.computed.sum()
+    assert sum(count for count, _ in part.caster.calls) == job.computed.sum() + creased.sum()
