@@ -87,23 +87,21 @@ def project(points, signed_axis, axis=None):
     return uv.reshape(shape + (2,)), depth.reshape(shape)
 
 
-def project_corners(mesh, triangles, signed_axis, axis=None, depth=False):
+def project_corners(mesh, triangles, signed_axis, axis=None):
     """The corners of some triangles on the chart planes of their signed axes, read from the vertices:
-    ``project(mesh.corners[triangles], signed_axis[:, None], axis)`` (the same values) without a (k, 3, 3)
+    ``project(mesh.corners[triangles], signed_axis[:, None], axis)[0]`` (the same values) without a (k, 3, 3)
     copy of every corner first (at a million triangles the copy took longer than the rest).
 
     Parameters
     ----------
     mesh : TriangleMesh
-    triangles : (k,) int, or ``slice(None)`` for all of them
+    triangles : (k,) int
     signed_axis : (k,) int, 0..5
     axis : int, optional, the one axis every ``signed_axis`` lies on, when the caller knows
-    depth : bool, also return the depths
 
     Returns
     -------
     uv : (k, 3, 2) float64, object units
-    depth : (k, 3) float64, distance along the signed axis (only if asked)
     """
     signed_axis = np.asarray(signed_axis)
     corner_at = mesh.triangles[triangles] * 3                                 # (k, 3) into the flat positions
@@ -112,9 +110,7 @@ def project_corners(mesh, triangles, signed_axis, axis=None, depth=False):
     uv = np.empty(corner_at.shape + (2,))
     uv[..., 0] = flat[corner_at + np.reshape(_U_COMPONENT[on_axis], (-1, 1))] * _U_SIGN[signed_axis][:, None]
     uv[..., 1] = flat[corner_at + np.reshape(_V_COMPONENT[on_axis], (-1, 1))] * _V_SIGN[signed_axis][:, None]
-    if not depth:
-        return uv
-    return uv, flat[corner_at + np.reshape(on_axis, (-1, 1))] * _DEPTH_SIGN[signed_axis][:, None]
+    return uv
 
 
 # The same bases as BASES, as component indices and signs (for speed).
@@ -260,9 +256,9 @@ def signed_axis_clusters(mesh, topology, compare_angle=60.0):
     return Charts(chart_of_face, np.array(chart_axis, dtype=np.int64), dominant.astype(np.int64))
 
 
-def triangle_chart_geometry(mesh, charts, axis, corners=None):
-    """Triangles of the charts on one axis, projected (from ``corners``, ``mesh.corners``, where the caller
-    has them: a caller going through all three axes gathers them once, not once per axis).
+def triangle_chart_geometry(mesh, charts, axis, corners):
+    """Triangles of the charts on one axis, projected from ``corners`` (``mesh.corners``, which a caller going
+    through all three axes gathers once).
 
     Returns
     -------
@@ -272,10 +268,7 @@ def triangle_chart_geometry(mesh, charts, axis, corners=None):
     group = charts.chart_of_face[mesh.triangle_face, axis].copy()
     group[mesh.degenerate] = -1
     signed = np.where(group >= 0, charts.chart_axis[np.maximum(group, 0)], 2 * axis)
-    if corners is None:
-        uv, depth = project_corners(mesh, slice(None), signed, axis, depth=True)
-    else:
-        uv, depth = project(corners, signed[:, None], axis)
+    uv, depth = project(corners, signed[:, None], axis)
     # the normal's component along the signed axis (AXES rows are unit axes)
     cos = np.clip(mesh.triangle_normal[:, axis] * _DEPTH_SIGN[signed], 0.05, 1.0)
     slope = np.sqrt(1.0 - cos**2) / cos
