@@ -19,7 +19,8 @@ module                              what it holds
 :mod:`.errors`                      the two exceptions
 :mod:`.budget`                      the memory a bake will need, before it starts
 **mesh** (``core/mesh/``)
-:mod:`.mesh.triangle_mesh`          triangle meshes, welding, normals, the mesh report
+:mod:`.mesh.triangle_mesh`          triangle meshes, normals, the mesh report
+:mod:`.mesh.weld`                   vertices at one position, or within a tolerance, made one
 :mod:`.mesh.adjacency`              faces that share an edge (sorted edge keys)
 :mod:`.mesh.extent`                 a mesh's size, a stray spike left out
 :mod:`.mesh.sealed`                 triangles of closed pieces (what "inside" means)

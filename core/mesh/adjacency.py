@@ -5,7 +5,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..arrays.graph import group_starts, pairs_within_groups, sort_order, unique_rows
-from .triangle_mesh import WELD_TOLERANCE, MeshReport, duplicate_triangle_count, weld_vertices
+from .triangle_mesh import WELD_TOLERANCE, MeshReport, duplicate_triangle_count
+from .weld import weld_vertices
 
 
 @dataclass

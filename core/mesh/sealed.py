@@ -16,7 +16,7 @@ to its area, those of a shell with a hole to the hole's area.
 import numpy as np
 
 from ..arrays.graph import connected_components
-from .triangle_mesh import exact_weld
+from .weld import exact_weld
 
 #: A piece is sealed when its area-weighted normals sum to less than this fraction of its area (a closed
 #: surface 0, a hemisphere one half, a flat sheet 1; tests/bench/bench_buried.py prints the openings of real

@@ -10,7 +10,8 @@ from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.export.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.arrays.graph import Adjacency, sort_order
-from seamless_ao.core.mesh.triangle_mesh import duplicate_triangle_count, sanitized_normals, weld_vertices
+from seamless_ao.core.mesh.triangle_mesh import duplicate_triangle_count, sanitized_normals
+from seamless_ao.core.mesh.weld import weld_vertices
 from seamless_ao.core.charts.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
 from seamless_ao.core.arrays.geometry2d import segment_distance, triangle_angles
 from seamless_ao.core.atlas.packing import SMALL_TEXELS, density_filling
