@@ -382,7 +382,7 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
     inset = RIM_INSET * mesh.triangle_scale[triangle]
     points = _inset_rim_points(points, _rim_distance(mesh, triangle, (b0, b1, b2)) < inset, corners.mean(axis=1),
                                np.maximum(inset, RIM_TEXELS / max(atlas.density, 1e-300)))
-    normals = mesh.corner_normals[triangle]
+    normals = mesh.normals_of(triangle)
     normals = b0[:, None] * normals[:, 0] + b1[:, None] * normals[:, 1] + b2[:, None] * normals[:, 2]
     geometric = mesh.triangle_normal[triangle]
     length = np.sqrt((normals * normals).sum(axis=1))[:, None]

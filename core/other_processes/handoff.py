@@ -24,7 +24,7 @@ JOB = "job.json"
 PROGRESS = "progress.txt"
 OUTCOME = "outcome.json"
 FAILURE = "failure.json"
-MESH_ARRAYS = ("positions", "triangles", "triangle_face", "corner_normals")
+MESH_ARRAYS = ("positions", "triangles", "triangle_face", "normals_as_read")
 SURFACE_ARRAYS = ("positions", "corner_vert", "loop_start")
 
 
@@ -79,7 +79,6 @@ def write_job(folder, meshes, matrices, occluders, settings, shown=None):
             _save(folder, "occluder{}_{}_positions".format(part, number), positions)
             _save(folder, "occluder{}_{}_triangles".format(part, number), triangles)
     _write_json(folder, JOB, {"settings": dataclasses.asdict(settings), "face_counts": [m.face_count for m in meshes],
-                              "sanitised": [isinstance(m, TriangleMesh) for m in meshes],
                               "occluders": [len(near) for near in occluders],
                               "shown": [surface is not None for surface in shown]})
 
@@ -91,8 +90,6 @@ def read_job(folder):
     for part, face_count in enumerate(job["face_counts"]):
         arrays = {name: _load(folder, "mesh{}_{}".format(part, name)) for name in MESH_ARRAYS}
         mesh = TriangleMesh(face_count=face_count, **arrays)
-        if job["sanitised"][part]:
-            mesh.corner_normals = arrays["corner_normals"]   # normalising again would move last bits
         meshes.append(mesh)
         matrices.append(_load(folder, "matrix{}".format(part)))
         occluders.append([(_load(folder, "occluder{}_{}_positions".format(part, number)),
@@ -125,7 +122,7 @@ def outcome_numbers(result):
             "caster": result.caster, "timings": {k: float(v) for k, v in result.timings.items()},
             "warnings": list(result.warnings), "width": int(layout.atlas.width), "height": int(layout.atlas.height),
             "utilisation": float(layout.atlas.utilisation), "density": float(layout.atlas.density),
-            "charts": int(layout.charts.count), "mesh_problems": list(layout.topology.report.problems())}
+            "charts": int(layout.charts.count), "mesh_problems": list(layout.mesh_report.problems())}
 
 
 def write_outcome(folder, result, part_count):

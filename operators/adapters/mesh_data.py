@@ -85,11 +85,12 @@ def write_uv(mesh, name, uv):
 
 
 def triangle_loops(mesh):
-    """(t, 3) int64 loop (face corner) of each corner of Blender's triangulation of a ``bpy.types.Mesh``."""
+    """(t, 3) int32 loop (face corner) of each corner of Blender's triangulation of a ``bpy.types.Mesh``
+    (Blender's own type: kept through a bake to write the UVs, half of an int64 copy)."""
     mesh.calc_loop_triangles()
     loops = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
     mesh.loop_triangles.foreach_get("loops", loops)
-    return loops.reshape(-1, 3).astype(np.int64)
+    return loops.reshape(-1, 3)
 
 
 def triangle_arrays(mesh, loops=None):
@@ -120,7 +121,7 @@ def read_mesh_arrays(mesh):
         Faces are the mesh's polygons, triangulated by Blender (concave n-gons
         included); corner normals are Blender's (custom normals, sharp edges
         and flat shading respected).
-    triangle_loops : (t, 3) int64
+    triangle_loops : (t, 3) int32
         Loop (face corner) index of each triangle corner, to write UVs back.
     """
     loops = triangle_loops(mesh)
