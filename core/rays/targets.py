@@ -138,15 +138,18 @@ def ray_shares(layout, computed):
     (n,) int64 per texel (0 where not ``computed``).
     """
     texels, atlas, mesh = layout.texels, layout.atlas, layout.mesh
-    axis = layout.charts.chart_axis[atlas.member_chart] // 2                 # (m,)
-    normals = mesh.corner_normals[atlas.member_triangle]                    # (m, 3, 3)
+    # per computed texel, not per member: a million-triangle mesh has far more members than a 256² image texels
+    member = texels.member[computed]                                                     # (c,)
+    axis = layout.charts.chart_axis[atlas.member_chart[member]] // 2                    # (c,)
+    normals = mesh.normals_of(atlas.member_triangle[member])                        # (c, 3, 3)
     mean = normals.sum(axis=1)
-    candidates = np.concatenate([normals, mean[:, None]], axis=1)           # (m, 4, 3)
+    candidates = np.concatenate([normals, mean[:, None]], axis=1)                       # (c, 4, 3)
     length2 = (candidates * candidates).sum(axis=2)
-    component2 = candidates[np.arange(len(axis)), :, axis] ** 2             # (m, 4)
-    member_weight = np.max(np.divide(component2, length2, out=np.ones_like(component2), where=length2 > 1e-24), axis=1)
+    component2 = candidates[np.arange(len(axis)), :, axis] ** 2                         # (c, 4)
+    texel_member_weight = np.max(np.divide(component2, length2, out=np.ones_like(component2), where=length2 > 1e-24),
+                                 axis=1)
     weight = np.zeros(texels.width * texels.height)
-    weight[texels.index[computed]] = member_weight[texels.member[computed]]
+    weight[texels.index[computed]] = texel_member_weight
     texel_weight = weight[texels.index]
     for other in neighbour_values(weight, texels.index, texels.width, texels.height, 0.0):
         texel_weight = np.maximum(texel_weight, other)
