@@ -13,8 +13,8 @@ from .atlas.chart_atlas import Atlas, expected_density, pack_charts
 from .atlas.raster import Texels, rasterise
 from .charts.clustering import Charts, cut_long_charts, make_injective, signed_axis_clusters
 from .errors import SeamlessAOError
-from .mesh.adjacency import Topology, face_adjacency
-from .mesh.triangle_mesh import TriangleMesh, require_faces
+from .mesh.adjacency import face_adjacency
+from .mesh.triangle_mesh import MeshReport, TriangleMesh, require_faces
 
 #: Distant parts of one chart must stay this many texels apart (bilinear reads 1).
 SEPARATION_TEXELS = 3.0
@@ -32,7 +32,7 @@ class Layout:
     """
 
     mesh: TriangleMesh
-    topology: Topology
+    mesh_report: MeshReport               # what welding found (the adjacency itself is let go after packing)
     charts: Charts
     atlas: Atlas
     texels: Texels
@@ -89,6 +89,8 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
                         image_size=None if density is not None else image_size, density=density)
     charts = atlas.charts
     timings["pack"] = time.perf_counter() - start
+    mesh_report = topology.report
+    del topology                          # 40 MB a million triangles, needed by no later step
 
     start = time.perf_counter()
     texels = rasterise(atlas, mesh, padding=atlas.padding)
@@ -96,7 +98,7 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     if not len(texels):
         raise SeamlessAOError("No texel landed on the mesh; raise the image size or texel density")
     part = np.repeat(np.arange(len(meshes)), np.diff(offsets))
-    return Layout(mesh, topology, charts, atlas, texels, part, timings)
+    return Layout(mesh, mesh_report, charts, atlas, texels, part, timings)
 
 
 def layer_lookup(atlas, mesh, triangle, bary):
