@@ -34,7 +34,7 @@ class Baked:
     Blender side needs to write back."""
 
     surface: BakedSurface
-    loops: np.ndarray           # (t, 3) int64: the evaluated mesh's corner of each triangle corner
+    loops: np.ndarray           # (t, 3) int32: the evaluated mesh's corner of each triangle corner
     target_uv: np.ndarray       # (t, 3, 2) the asked UV map at each triangle corner, or None
     on_base: bool               # the evaluated corners are the base mesh's (else the AO is through the stack)
 
