@@ -99,29 +99,32 @@ class CyclesAmbientOcclusion:
         if not cycles_enabled():
             raise SeamlessAOError("The Cycles ray caster needs the Cycles render engine, which is not enabled "
                                   "in this Blender; enable it, or choose the Geometry Nodes caster.")
-        origins, geometric = ray_origins(points, normals, geometric, params.offset)
-        corners = texel_triangles(origins, normals, geometric, TRIANGLE_SIZE * params.offset)
-        uv, height = pixel_uv(count, IMAGE_WIDTH)
-        if self.device is None:
-            self.device, warning = cycles_device()
-            self.warnings += [warning] if warning else []
-        try:
-            return self._bake(corners, uv, height, count, samples, params)
-        except SeamlessAOError as error:
-            if self.device != "GPU":
-                raise
-            # out of GPU memory, a driver fault: the CPU bakes it, and the report says so
-            self.device = "CPU"
-            self.warnings.append("Cycles could not bake on the GPU ({}): it baked on the CPU".format(error))
-            return self._bake(corners, uv, height, count, samples, params)
-
-    def _bake(self, corners, uv, height, count, samples, params):
-        """Cycles' AO bake of the texels' tiny triangles ``corners`` into one image row by row."""
         made = []
         try:
-            mesh = _made(made, mesh_from_triangles(TEMP_PREFIX + "texels", corners.reshape(-1, 3),
-                                                   np.arange(3 * count).reshape(-1, 3)))
-            mesh.uv_layers.new(name="texels").data.foreach_set("uv", uv.astype(np.float32).ravel())
+            # the texel mesh's float64 sources (about 200 bytes a texel) are let go before Cycles runs
+            mesh, height = _texel_mesh(*ray_origins(points, normals, geometric, params.offset), normals,
+                                       TRIANGLE_SIZE * params.offset)
+            made.append(mesh)
+            if self.device is None:
+                self.device, warning = cycles_device()
+                self.warnings += [warning] if warning else []
+            try:
+                return self._bake(mesh, height, count, samples, params)
+            except SeamlessAOError as error:
+                if self.device != "GPU":
+                    raise
+                # out of GPU memory, a driver fault: the CPU bakes it, and the report says so
+                self.device = "CPU"
+                self.warnings.append("Cycles could not bake on the GPU ({}): it baked on the CPU".format(error))
+                return self._bake(mesh, height, count, samples, params)
+        finally:
+            if made:
+                bpy.data.batch_remove(made)
+
+    def _bake(self, mesh, height, count, samples, params):
+        """Cycles' AO bake of the texel mesh ``mesh`` (:func:`_texel_mesh`) into one image row by row."""
+        made = []
+        try:
             image = _made(made, bpy.data.images.new(TEMP_PREFIX + "texels", IMAGE_WIDTH, height, alpha=False,
                                                      float_buffer=True))
             image.colorspace_settings.name = "Non-Color"
@@ -134,6 +137,7 @@ class CyclesAmbientOcclusion:
             node = material.node_tree.nodes.new("ShaderNodeTexImage")
             node.image = image
             material.node_tree.nodes.active = node
+            mesh.materials.clear()                     # a failed GPU bake left an empty slot
             mesh.materials.append(material)
             texels = _made(made, bpy.data.objects.new(TEMP_PREFIX + "texels", mesh))
             for name in HIDDEN_FROM:
@@ -174,6 +178,17 @@ class CyclesAmbientOcclusion:
         cycles.use_adaptive_sampling = False
         cycles.max_bounces = 0
         cycles.diffuse_bounces = 0
+
+
+def _texel_mesh(origins, geometric, normals, size):
+    """A new mesh of one tiny triangle per texel (:func:`texel_triangles`), each with a UV triangle around
+    a pixel of its own (:func:`pixel_uv`), and the height of the image those pixels fill."""
+    count = len(origins)
+    mesh = mesh_from_triangles(TEMP_PREFIX + "texels", texel_triangles(origins, normals, geometric, size)
+                               .reshape(-1, 3), np.arange(3 * count, dtype=np.int32).reshape(-1, 3))
+    uv, height = pixel_uv(count, IMAGE_WIDTH)
+    mesh.uv_layers.new(name="texels").data.foreach_set("uv", uv.astype(np.float32).ravel())
+    return mesh, height
 
 
 def _made(made, datablock):

@@ -77,6 +77,48 @@ def test_done_casting_the_cycles_caster_drops_the_raycast_set_up_and_still_bakes
     assert not left, left
 
 
+def test_a_gpu_bake_that_fails_is_baked_again_on_the_cpu_from_the_same_texel_mesh(fresh_scene, monkeypatch):
+    """A GPU bake that raises (out of memory, a driver fault): the caster says so, turns to the CPU, bakes the
+    same texel mesh with a material of its own, gets what a CPU bake gets, and leaves no datablock behind."""
+    import bpy
+
+    from seamless_ao.core.errors import SeamlessAOError
+    from seamless_ao.core.keys import TEMP_PREFIX
+    from seamless_ao.operators.adapters import cycles_caster
+
+    ceiling = np.array([[-60.0, -60.0, 1.0], [60.0, -60.0, 1.0], [60.0, 60.0, 1.0], [-60.0, 60.0, 1.0]])
+    points = np.column_stack([np.linspace(-1.0, 1.0, 50), np.zeros(50), np.zeros(50)])
+    up = np.tile([0.0, 0.0, 1.0], (50, 1))
+    params = AOParams(rays=64, max_distance=2.0, offset=1e-4, seed=3)
+    plain = CyclesCaster(ceiling, np.array([[0, 2, 1], [0, 3, 2]]))
+    try:
+        expected = plain.ambient_occlusion(points, up, up, 64, params)
+    finally:
+        plain.free()
+    real_bake, calls = cycles_caster.CyclesAmbientOcclusion._bake, []
+
+    def failing_on_the_gpu(self, mesh, *args):
+        calls.append((self.device, mesh.name, len(mesh.polygons)))
+        if self.device == "GPU":
+            raise SeamlessAOError("out of device memory")
+        return real_bake(self, mesh, *args)
+
+    monkeypatch.setattr(cycles_caster.CyclesAmbientOcclusion, "_bake", failing_on_the_gpu)
+    caster = CyclesCaster(ceiling, np.array([[0, 2, 1], [0, 3, 2]]))
+    try:
+        caster.device = "GPU"
+        got = caster.ambient_occlusion(points, up, up, 64, params)
+        assert caster.device == "CPU"
+        assert caster.warnings == ["Cycles could not bake on the GPU (out of device memory): it baked on the CPU"]
+    finally:
+        caster.free()
+    assert [device for device, _, _ in calls] == ["GPU", "CPU"] and calls[0][1:] == calls[1][1:] == (calls[0][1], 50)
+    assert np.array_equal(got, expected)
+    left = [d.name for kind in ("scenes", "objects", "meshes", "materials", "images", "node_groups", "worlds")
+            for d in getattr(bpy.data, kind) if d.name.startswith(TEMP_PREFIX)]
+    assert not left, left
+
+
 def test_a_cycles_bake_shows_the_geometry_nodes_bake_and_leaves_nothing_behind(addon, fresh_scene):
     """Suzanne on a floor, baked with each caster: the same AO within the rays' noise, every datablock the
     Cycles caster made removed, and the scene's render engine and world as they were."""
