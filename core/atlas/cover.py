@@ -80,35 +80,35 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     first_row = np.concatenate([[0], np.cumsum(rows)[:-1]])
     band = np.where(height > 0, height / rows, 1.0)                          # (c,) band height
 
-    # every (member, band) pair the member's y-range touches
-    y_min, y_max = member_low[:, 1], member_high[:, 1]
+    x_low = np.full(int(rows.sum()), np.inf)
+    x_high = np.full(int(rows.sum()), -np.inf)
+    # the band of each member's lowest and highest point
     chart_low_y, chart_band = low[member_chart, 1], band[member_chart]
     last = rows[member_chart] - 1
-    r0 = np.clip(np.floor((y_min - chart_low_y) / chart_band), 0, last).astype(np.int64)
-    r1 = np.clip(np.floor((y_max - chart_low_y) / chart_band), 0, last).astype(np.int64)
+    r0 = np.clip(np.floor((member_low[:, 1] - chart_low_y) / chart_band), 0, last).astype(np.int64)
+    r1 = np.clip(np.floor((member_high[:, 1] - chart_low_y) / chart_band), 0, last).astype(np.int64)
     # A triangle touching one or two bands adds its own x-extent to each (conservative by less
-    # than its width); only triangles spanning more bands are clipped to each band exactly.
-    short = r1 - r0 <= 1
-    count = np.where(short, 0, r1 - r0 + 1)
-    pair_member = np.repeat(np.arange(len(member_chart)), count)
-    pair_row = np.repeat(r0, count) + index_in_runs(count)
-    band_low = chart_low_y[pair_member] + pair_row * chart_band[pair_member]
-    band_high = band_low + chart_band[pair_member]
+    # than its width), straight from its box; only triangles spanning more bands are clipped to each
+    # band exactly, one (member, band) pair at a time.
+    long = np.flatnonzero(r1 - r0 > 1)
+    whole = np.flatnonzero(r1 - r0 <= 1)
+    whole_low, whole_high, whole_first = member_low[whole, 0], member_high[whole, 0], first_row[member_chart[whole]]
+    for whole_row in (r0[whole], r1[whole]):
+        np.minimum.at(x_low, whole_first + whole_row, whole_low)
+        np.maximum.at(x_high, whole_first + whole_row, whole_high)
+    del whole, whole_low, whole_high, whole_first, chart_low_y, chart_band
+    count = r1[long] - r0[long] + 1
+    pair_member = np.repeat(long, count)
+    pair_row = np.repeat(r0[long], count) + index_in_runs(count)
+    pair_chart = member_chart[pair_member]
+    band_low = low[pair_chart, 1] + pair_row * band[pair_chart]
+    band_high = band_low + band[pair_chart]
     # the first and last band reach past the chart's bounds (no rounding gap)
-    reach = chart_band[pair_member]
+    reach = band[pair_chart]
     band_low = np.where(pair_row == 0, band_low - reach, band_low)
     band_high = np.where(pair_row == last[pair_member], band_high + reach, band_high)
     x0, x1 = band_x_extent(local_uv[pair_member], band_low, band_high)
-    whole = np.flatnonzero(short)
-    whole_low, whole_high = member_low[whole, 0], member_high[whole, 0]
-    x0 = np.concatenate([whole_low, whole_low, x0])
-    x1 = np.concatenate([whole_high, whole_high, x1])
-    pair_member = np.concatenate([whole, whole, pair_member])
-    pair_row = np.concatenate([r0[whole], r1[whole], pair_row])
-
-    key = first_row[member_chart[pair_member]] + pair_row
-    x_low = np.full(int(rows.sum()), np.inf)
-    x_high = np.full(int(rows.sum()), -np.inf)
+    key = first_row[pair_chart] + pair_row
     np.minimum.at(x_low, key, x0)
     np.maximum.at(x_high, key, x1)
     # a band no triangle reaches (a gap in the chart's projection): the chart's whole width

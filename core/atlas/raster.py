@@ -105,13 +105,17 @@ def rasterise(atlas, mesh, padding=4):
     fixed = one_texel & (atlas.chart_texel_member >= 0)
     fixed_texel, first = np.unique(atlas.chart_texel[fixed], return_index=True)
     fixed_member = atlas.chart_texel_member[fixed][first]
-    # a corner is one point of one chart: (chart, vertex), numbered densely
+    return rasterise_triangles(atlas.member_uv, live, atlas.width, atlas.height, padding,
+                               fixed_texel=fixed_texel, fixed_member=fixed_member, rim=_live_rim(atlas, mesh, live))
+
+
+def _live_rim(atlas, mesh, live):
+    """(k,) bool: :func:`rim_triangles` of members ``live`` (k,), a corner being one vertex in one chart
+    (the (k, 3) keys go on return: 24 MB a million members)."""
     corner = atlas.member_chart[live, None] * np.int64(len(mesh.positions)) + mesh.triangles[atlas.member_triangle[live]]
     if corner.size and float(corner.max()) + 1.0 >= 2.0**31:     # rim_triangles sorts pairs of keys: keep them small
         corner = np.unique(corner, return_inverse=True)[1].reshape(-1, 3)
-    rim = rim_triangles(corner)
-    return rasterise_triangles(atlas.member_uv, live, atlas.width, atlas.height, padding,
-                               fixed_texel=fixed_texel, fixed_member=fixed_member, rim=rim)
+    return rim_triangles(corner)
 
 
 def rim_triangles(corner_key):
@@ -180,30 +184,42 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     Texels whose ``member`` indexes ``triangle_uv``.
     """
     member_map = np.full(width * height, -1, dtype=np.int64 if width * height >= 2**31 else np.int32)
-    live = np.asarray(live, dtype=np.int64)
-    uv = triangle_uv[live]
-    if rim is None:
-        rim = rim_triangles(point_keys(uv.reshape(-1, 2)).reshape(-1, 3))
-    low, high = corner_min(uv), corner_max(uv)
-
-    # Covered texels: every centre inside a triangle (a centre exactly on a
-    # shared edge goes to one of the two; both are the same surface there).
     kind = np.full(width * height, PADDING, dtype=np.int8)
     if fixed_texel is not None and len(fixed_texel):
         member_map[fixed_texel] = fixed_member
         kind[fixed_texel] = COVERED
+    _draw_triangles(member_map, kind, triangle_uv, np.asarray(live, dtype=np.int64), width, height, rim)
+    ring = _grow_padding(member_map, kind, width, height, padding)
+    index = np.flatnonzero(member_map >= 0)
+    return Texels(width, height, index, member_map[index].astype(np.int64), kind[index], ring[index])
+
+
+def _draw_triangles(member_map, kind, triangle_uv, live, width, height, rim):
+    """Write the covered and near texels of triangles ``live`` into ``member_map`` and ``kind`` (w * h,)
+    (:func:`rasterise_triangles`); what it works with (about 200 bytes a triangle) goes on return, before
+    the padding grows."""
+    uv = triangle_uv[live]
+    if rim is None:
+        rim = rim_triangles(point_keys(uv.reshape(-1, 2)).reshape(-1, 3))
+
+    # Covered texels: every centre inside a triangle (a centre exactly on a
+    # shared edge goes to one of the two; both are the same surface there).
     row_member, row_y, x0, x1 = covered_rows(uv, height)
     c0 = np.clip(np.ceil(x0 - 0.5), 0, width).astype(np.int64)
     c1 = np.clip(np.floor(x1 - 0.5), -1, width - 1).astype(np.int64)
+    del x0, x1
     for texel, owner in expand_spans(row_y, c0, c1, row_member, width):
         member_map[texel] = live[owner]
         kind[texel] = COVERED
+    del row_member, row_y, c0, c1
 
     # Near texels: centres within one texel of a rim triangle that no
     # triangle covers; the closest triangle wins.
     rim_member = np.flatnonzero(rim)
-    y0 = np.clip(np.ceil(low[rim_member, 1] - 1.5), 0, height).astype(np.int64)
-    y1 = np.clip(np.floor(high[rim_member, 1] + 0.5), -1, height - 1).astype(np.int64)
+    rim_uv = uv[rim_member]
+    y0 = np.clip(np.ceil(corner_min(rim_uv)[:, 1] - 1.5), 0, height).astype(np.int64)
+    y1 = np.clip(np.floor(corner_max(rim_uv)[:, 1] + 0.5), -1, height - 1).astype(np.int64)
+    del rim_uv
     row_member, row_y = _rows(y0, y1)
     row_member = rim_member[row_member]
     centre_y = row_y + 0.5
@@ -223,9 +239,6 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
         texel, _, owner = _best_per_texel(texel, score, owner)
         member_map[texel] = live[owner]
         kind[texel] = NEAR
-    ring = _grow_padding(member_map, kind, width, height, padding)
-    index = np.flatnonzero(member_map >= 0)
-    return Texels(width, height, index, member_map[index].astype(np.int64), kind[index], ring[index])
 
 
 def covered_rows(uv, height, half_open=False):
