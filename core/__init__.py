@@ -31,6 +31,7 @@ module                              what it holds
 :mod:`.charts.splitting`            how a folding chart is cut
 **atlas** (``core/atlas/``)
 :mod:`.atlas.chart_atlas`           chart projection, density, the packed atlas and its UVs
+:mod:`.atlas.long_charts`           charts too long for the image, packed at a density of their own
 :mod:`.atlas.packing`               where each chart goes at one density (xatlas)
 :mod:`.atlas.cover`                 coarse covers of charts, for the packer
 :mod:`.atlas.shelf`                 shelf packing of the small charts

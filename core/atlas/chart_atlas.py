@@ -15,25 +15,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..arrays.geometry2d import group_boxes
 from ..charts.clustering import project_corners
 from ..errors import SeamlessAOError
-from ..mesh.extent import mesh_size
 from .cover import chart_covers
+from .long_charts import (LONG_CHART_IMAGES, SHRUNK_CHART_SHARE, estimate_density, long_chart_factors, long_chart_scale,
+                          long_chart_warning)
 from .packing import (MIN_PADDING, POINT_TEXELS, Packer, density_filling, effective_padding, largest_density,
                       xatlas_padding)
-
-
-#: A chart longer than this many image widths at the density that would fill the image
-#: (:func:`estimate_density`) is packed at a lower density of its own: one stray face must not
-#: take the texels of the whole mesh (:func:`long_chart_factors`).
-LONG_CHART_IMAGES = 1.0
-#: Such a chart is packed this share of that long (a spike's texels show next to nothing).
-SHRUNK_CHART_SHARE = 0.25
-#: With a texel density given, a chart longer than this many texels is packed at a lower density of its own,
-LONG_CHART_TEXELS = 4096
-#: ... if such charts hold at most this share of the triangles (a few stray faces, not the mesh itself).
-FEW_LONG_MEMBERS = 0.01
 
 
 @dataclass
@@ -53,7 +41,17 @@ class Atlas:
     member_chart : (m,) int64
         ... and chart.
     member_uv : (m, 3, 2) float64
-        Corners of the member in texel coordinates.
+        Corners of the member in texel coordinates, worked out again at
+        each use (:meth:`member_uv_of` those of some members): the atlas
+        keeps only how each chart is scaled and placed, not 48 bytes a
+        member (66 MB at a million triangles, kept through every bake).
+    chart_scale : (c,) float64
+        Each chart's own scale of its plane coordinates (1 but for long
+        charts, :func:`.long_charts.long_chart_factors`).
+    chart_transform : (c, 2, 3) float64
+        Affine map from each chart's scaled plane coordinates to texels.
+    mesh : TriangleMesh
+        The mesh the members are triangles of.
     membership : (t, 3) int64
         Member of each triangle on axis X, Y, Z (``-1``: not in a chart there).
     dominant_member : (t,) int64
@@ -83,9 +81,11 @@ class Atlas:
     utilisation: float
     member_triangle: np.ndarray
     member_chart: np.ndarray
-    member_uv: np.ndarray
+    chart_scale: np.ndarray
+    chart_transform: np.ndarray
     membership: np.ndarray
     dominant_member: np.ndarray
+    mesh: object = field(default=None, repr=False)
     member_placed: np.ndarray = None
     charts: object = field(default=None, repr=False)
     chart_texel: np.ndarray = None
@@ -96,6 +96,18 @@ class Atlas:
     @property
     def size(self):
         return np.array([self.width, self.height], dtype=np.float64)
+
+    member_uv = property(lambda self: self.member_uv_of(slice(None)),
+                         doc="(m, 3, 2) float64, every member's corners in texels, a new array each use")
+
+    def member_uv_of(self, member):
+        """(k, 3, 2) float64: the corners of members ``member`` (k,) int or a slice in texel coordinates,
+        from the vertices: projected on the chart's plane, scaled and placed as the chart was (the same bits
+        whichever members are asked for)."""
+        chart = self.member_chart[member]
+        local = project_corners(self.mesh, self.member_triangle[member], self.charts.chart_axis[chart])
+        local *= self.chart_scale[chart][:, None, None]
+        return _apply(self.chart_transform[chart], local)
 
     def layer_uv(self):
         """(t, 3, 3, 2) float64: UV of each triangle corner in layers ``AO_X``, ``AO_Y``, ``AO_Z``
@@ -123,7 +135,7 @@ class Atlas:
         layer at a time: a bake writes the layers one by one, and the three
         together are 72 bytes per triangle (72 MB at a million triangles).
         """
-        uv = self.member_uv[self.layer_member(axis, triangles)]
+        uv = self.member_uv_of(self.layer_member(axis, triangles))
         # column by column: what ``uv /= size`` and ``np.clip`` compute, in a fifth of the time
         for column, size in enumerate((float(self.width), float(self.height))):
             values = uv[..., column]
@@ -157,7 +169,7 @@ def _member_plane_area(mesh, charts, member_triangle, member_chart):
 def expected_density(mesh, charts, image_size):
     """Texels per object unit at which the charts would fill about half an ``image_size`` image: the
     :func:`estimate_density` of their area, where the members longer than the image at that density count
-    as :func:`long_chart_factors` will shrink them (a spike to a stray vertex counts for little)."""
+    as :func:`.long_charts.long_chart_factors` will shrink them (a spike to a stray vertex counts for little)."""
     member_triangle, member_chart, _ = chart_members(mesh, charts)
     member_area = _member_plane_area(mesh, charts, member_triangle, member_chart)
     density = estimate_density(float(member_area.sum()), image_size)
@@ -169,11 +181,6 @@ def expected_density(mesh, charts, image_size):
                                 LONG_CHART_IMAGES * image_size, image_size=image_size, utilisation=0.55,
                                 stray=mesh.stray[member_triangle])
     return estimate_density(float((member_area * factor**2).sum()), image_size)
-
-
-def estimate_density(area, image_size, utilisation=0.55):
-    """Texels per object unit that would fill ``utilisation`` of a square image."""
-    return float(np.sqrt(utilisation * image_size**2 / max(area, 1e-300)))
 
 
 def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None, max_size=16384):
@@ -220,7 +227,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     if not live.any():
         raise SeamlessAOError("The mesh has no face with area; there is nothing to pack")
     member_area = _member_plane_area(mesh, charts, member_triangle, member_chart)
-    factor = _long_chart_scale(mesh, charts, local_uv, member_area, member_triangle, member_chart, live,
+    factor = long_chart_scale(mesh, charts, local_uv, member_area, member_triangle, member_chart, live,
                                image_size, density)
     if (factor < 1.0).any():
         # a chart only moves and scales in its plane, so scaling its coordinates is all it takes
@@ -229,6 +236,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     area = float(member_area[live].sum())
     expected = density if density is not None else estimate_density(area, image_size, 0.7)
     covers = chart_covers(local_uv[live], member_chart[live], charts.count, expected)
+    del local_uv                          # the atlas works out any member's UVs again (Atlas.member_uv_of)
     if image_size is not None:
         # the density at which the charts' boxes with the least padding fill the image
         all_points = POINT_TEXELS / max(covers.extent.max(), 1e-300)
@@ -238,11 +246,9 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     packer = Packer(covers, _chart_centres(mesh, member_triangle, member_chart, charts.count), padding)
     placement = (largest_density(packer, int(image_size), area) if image_size is not None
                  else _place_at_density(packer, covers, area, density, padding, max_size))
-    transforms = placement.transforms()                                    # (c, 2, 3)
-    member_uv = _apply(transforms[member_chart], local_uv)
     placed = len(member_triangle)
-    member_triangle, member_chart, member_uv, dominant_member = _members_with_orphans(
-        mesh, topology, charts, membership, member_triangle, member_chart, member_uv, transforms, factor)
+    member_triangle, member_chart, dominant_member = _members_with_orphans(
+        mesh, topology, charts, membership, member_triangle, member_chart)
     point_member = _largest_member(mesh, member_triangle, member_chart, charts.count, placed,
                                    placement.point_texel >= 0)
     width, height = placement.width, placement.height                     # texels
@@ -251,23 +257,19 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     return Atlas(
         width=width, height=height, density=placement.density,
         utilisation=float(min(1.0, (drawn_area * placement.density**2 + point_texels) / (width * height))),
-        member_triangle=member_triangle, member_chart=member_chart, member_uv=member_uv,
-        membership=membership, dominant_member=dominant_member,
+        member_triangle=member_triangle, member_chart=member_chart, chart_scale=factor,
+        chart_transform=placement.transforms(), membership=membership, dominant_member=dominant_member, mesh=mesh,
         member_placed=np.arange(len(member_triangle)) < placed,
         charts=charts, chart_texel=placement.point_texel, chart_texel_member=point_member,
-        padding=padding, warnings=_long_chart_warning(factor) + placement.warnings())
+        padding=padding, warnings=long_chart_warning(factor) + placement.warnings())
 
 
-def _members_with_orphans(mesh, topology, charts, membership, member_triangle, member_chart, member_uv, transforms,
-                          factor):
+def _members_with_orphans(mesh, topology, charts, membership, member_triangle, member_chart):
     """The members with one more for each triangle of a face in no chart (zero area: a neighbour's chart,
     :func:`_adopt_orphans`), at the end; and ``dominant_member`` (t,): each triangle's member on its face's
     dominant axis (an orphan's own)."""
     orphan_triangle, orphan_chart = _adopt_orphans(mesh, topology, charts)
     if len(orphan_triangle):
-        orphan_local = project_corners(mesh, orphan_triangle, charts.chart_axis[orphan_chart])
-        orphan_local *= factor[orphan_chart][:, None, None]
-        member_uv = np.concatenate([member_uv, _apply(transforms[orphan_chart], orphan_local)])
         member_triangle = np.concatenate([member_triangle, orphan_triangle])
         member_chart = np.concatenate([member_chart, orphan_chart])
     dominant_member = np.full(len(mesh.triangles), -1, dtype=np.int64)
@@ -275,27 +277,7 @@ def _members_with_orphans(mesh, topology, charts, membership, member_triangle, m
     live_face = face_dominant >= 0
     dominant_member[live_face] = membership[live_face, face_dominant[live_face] // 2]
     dominant_member[orphan_triangle] = len(member_triangle) - len(orphan_triangle) + np.arange(len(orphan_triangle))
-    return member_triangle, member_chart, member_uv, dominant_member
-
-
-def _long_chart_scale(mesh, charts, local_uv, member_area, member_triangle, member_chart, live, image_size, density):
-    """(c,) float: each chart's own scale, 1 but for the long charts :func:`long_chart_factors` shrinks."""
-    factor = np.ones(charts.count)
-    if not _may_be_long(mesh, float(member_area[live].sum()), image_size, density):
-        return factor
-    # chart boxes from the members (covers at the common density first would band a spike's chart 10^9 times)
-    low, high = group_boxes(local_uv[live], member_chart[live], charts.count)
-    longest = np.where(np.isfinite(low[:, 0]), (high - low).max(axis=1), 0.0)
-    stray = np.zeros(charts.count, dtype=bool)
-    stray[member_chart[mesh.stray[member_triangle]]] = True
-    if image_size is not None:
-        return long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_IMAGES * image_size,
-                                  image_size=image_size, stray=stray)
-    factor = long_chart_factors(longest, member_area[live], member_chart[live], LONG_CHART_TEXELS,
-                                density=density, stray=stray)
-    if (factor[member_chart[live]] < 1.0).mean() > FEW_LONG_MEMBERS:
-        factor[:] = 1.0             # the mesh itself is that large at this density: refused below
-    return factor
+    return member_triangle, member_chart, dominant_member
 
 
 def _place_at_density(packer, covers, area, density, padding, max_size):
@@ -314,85 +296,6 @@ def _place_at_density(packer, covers, area, density, padding, max_size):
         raise SeamlessAOError("A texel density of {:g} needs a {}x{} image, larger than {}; lower the density".format(
             density, placement.width, placement.height, max_size))
     return placement
-
-
-def long_chart_factors(longest, member_area, member_chart, limit, image_size=None, density=None, utilisation=0.7,
-                       stray=None):
-    """(c,) float64 in (0, 1]: the share of the common texel density each chart is packed at.
-
-    A chart longer than ``limit`` texels at the density the layout expects
-    (``density``, or :func:`estimate_density` of the charts' area in an
-    ``image_size`` image) gets :data:`SHRUNK_CHART_SHARE` of ``limit``
-    texels along its longer side (before the density search scales all
-    charts alike), and so does a ``stray`` chart longer than that (one
-    holding triangles the mesh's size leaves out, :attr:`..mesh.triangle_mesh.TriangleMesh.stray`:
-    a sheet of spikes to far outliers is more surface than the rest); the
-    others keep the common density (1).  Long charts are cut into pieces
-    before (:func:`..charts.clustering.cut_long_charts`), but not their faces: a
-    spike to a stray vertex, or one long quad, is one face however long.
-    Without this, the density search would shrink every chart until that
-    one fits.  With ``image_size``, the expected density is that of the
-    area once the long charts are shrunk.
-
-    Parameters
-    ----------
-    longest : (c,) float64, object units: each chart's longer side in its plane
-    member_area : (m,) float64, object units squared; member_chart : (m,) int
-    limit : float, texels
-    utilisation : float, of the image, for :func:`estimate_density`
-    stray : (c,) bool, optional
-    """
-    target = SHRUNK_CHART_SHARE * limit
-    trigger = np.full(len(longest), float(limit)) if stray is None else np.where(stray, target, float(limit))
-    longest = np.maximum(longest, 1e-300)
-    if density is not None:
-        return np.where(longest * density > trigger, target / (longest * density), 1.0)
-    # Shrunk to ``target`` texels long, a chart takes area * (target / longest)^2 texels whatever the density,
-    # so the density that fills the image with the rest follows from the set of shrunk charts directly.
-    area = np.bincount(member_chart, member_area, len(longest))
-    room = utilisation * float(image_size) ** 2
-    shrunk = np.zeros(len(longest), dtype=bool)
-    for _ in range(16):
-        rest = float(area[~shrunk].sum())
-        held = float((area[shrunk] * (target / longest[shrunk]) ** 2).sum())
-        if rest > 0.0 and room > held:
-            expected = np.sqrt((room - held) / rest)
-        else:                         # the long charts alone would fill the image: as if none were shrunk
-            expected = estimate_density(float(area.sum()), image_size, utilisation)
-        now = longest * expected > trigger
-        if np.array_equal(now, shrunk):
-            break
-        shrunk = now
-    factor = np.where(shrunk, target / (longest * expected), 1.0)
-    return factor
-
-
-def _may_be_long(mesh, area, image_size, density):
-    """Whether :func:`long_chart_factors` may shrink a chart: never when the whole mesh's box, at the density
-    it starts from, is within the length it shrinks charts from (a quarter of that with debris): no chart is
-    longer than the box's diagonal, and the density only grows once a chart is shrunk."""
-    reach = mesh_size(mesh.positions)
-    shortest = SHRUNK_CHART_SHARE if mesh.stray.any() else 1.0
-    if density is not None:
-        return reach * density > shortest * LONG_CHART_TEXELS
-    return reach * estimate_density(area, image_size, 0.7) > shortest * LONG_CHART_IMAGES * image_size
-
-
-def _long_chart_warning(factor):
-    """Sentences for the bake report about charts :func:`long_chart_factors` shrank."""
-    shrunk = factor < 1.0
-    if not shrunk.any():
-        return []
-    return ["{:,} chart{} too long for the image or far out of the rest of the mesh (a spike to a stray vertex, "
-            "debris far off): packed with {} times fewer texels per unit than the rest".format(
-                int(shrunk.sum()), "s were" if shrunk.sum() > 1 else " was", _times(1.0 / float(factor.min())))]
-
-
-def _times(ratio):
-    """``ratio`` >= 1 for a sentence: "up to 1.4", "up to 206", "over a million"."""
-    if ratio >= 1e6:
-        return "over a million"
-    return "up to {:,.1f}".format(ratio) if ratio < 10 else "up to {:,.0f}".format(ratio)
 
 
 def _chart_centres(mesh, member_triangle, member_chart, chart_count):

@@ -71,7 +71,7 @@ class TriangleMesh:
     stray : (t,) bool
         The triangles left out of it (a spike to a stray vertex, a few
         triangles floating far off): their charts get few texels
-        (:func:`..atlas.chart_atlas.long_chart_factors`).
+        (:func:`..atlas.long_charts.long_chart_factors`).
     part_of_vertex : (v,) int64
         Input mesh of each vertex (all 0 for one mesh); parts never weld.
     part_scale : (p,) float64
