@@ -159,8 +159,8 @@ class Charts:
         return out
 
 
-def face_axis_cosines(mesh):
-    """Per-face cosines to the six signed axes.
+def face_axis_cosines(mesh, face_normal):
+    """Per-face cosines to the six signed axes, from ``face_normal`` (f, 3), :attr:`mesh.face_normal`.
 
     Returns
     -------
@@ -170,7 +170,7 @@ def face_axis_cosines(mesh):
         Smallest cosine over the face's non-degenerate triangles (a warped
         polygon may have triangles facing away from an axis its normal faces).
     """
-    face_cos = mesh.face_normal @ AXES.T
+    face_cos = face_normal @ AXES.T
     live = ~mesh.degenerate
     worst_cos = scatter_rows(np.minimum, np.full((mesh.face_count, 6), np.inf), mesh.triangle_face[live],
                              mesh.triangle_normal[live] @ AXES.T)
@@ -182,13 +182,14 @@ def face_axis_cosines(mesh):
 NORMAL_SMOOTHING = 2
 
 
-def smoothed_face_normals(mesh, edges, rounds=NORMAL_SMOOTHING):
+def smoothed_face_normals(mesh, edges, face_normal, rounds=NORMAL_SMOOTHING):
     """(f, 3) unit normals of each face averaged, area-weighted, with its edge neighbours ``rounds`` times.
 
     Parameters
     ----------
     mesh : TriangleMesh
     edges : (e, 2) int, faces sharing an edge (:attr:`..mesh.adjacency.Topology.face_edges`)
+    face_normal : (f, 3) float64, :attr:`mesh.face_normal`: where the average is zero
     """
     weighted = scatter_rows(np.add, np.zeros((mesh.face_count, 3)), mesh.triangle_face, mesh.triangle_cross)
     for _ in range(rounds):
@@ -197,7 +198,7 @@ def smoothed_face_normals(mesh, edges, rounds=NORMAL_SMOOTHING):
         scatter_rows(np.add, summed, edges[:, 1], weighted[edges[:, 0]])
         weighted = summed
     length = np.linalg.norm(weighted, axis=1, keepdims=True)
-    return np.divide(weighted, length, out=mesh.face_normal.copy(), where=length > 0)
+    return np.divide(weighted, length, out=face_normal.copy(), where=length > 0)
 
 
 def cluster_faces(mesh, topology, compare_angle=60.0):
@@ -223,12 +224,13 @@ def signed_axis_clusters(mesh, topology, compare_angle=60.0):
     -------
     Charts
     """
-    face_cos, worst_cos = face_axis_cosines(mesh)
+    face_normal = mesh.face_normal                      # worked out once here, kept by no one after
+    face_cos, worst_cos = face_axis_cosines(mesh, face_normal)
     live = ~mesh.face_degenerate
     edges = topology.face_edges
     # Which axes a face joins follows the surface's normal around it, not each face's own (a scanner's noise
     # tilts single faces every way and would cut charts into slivers), as long as the face itself faces it.
-    smooth_cos = smoothed_face_normals(mesh, edges) @ AXES.T
+    smooth_cos = smoothed_face_normals(mesh, edges, face_normal) @ AXES.T
     dominant = np.argmax(smooth_cos, axis=1)
     own = worst_cos[np.arange(len(dominant)), dominant] <= FRONT_FACING
     dominant = np.where(own, np.argmax(face_cos, axis=1), dominant)

@@ -6,7 +6,6 @@ UVs per face corner.  All geometry is float64.
 """
 
 from dataclasses import dataclass, field
-from functools import cached_property
 
 import numpy as np
 
@@ -195,11 +194,10 @@ class TriangleMesh:
         """(t,) float64: the ``scale`` of each triangle's part."""
         return self.part_scale[self.part_of_vertex[self.triangles[:, 0]]]
 
-    @cached_property
+    @property
     def face_normal(self):
-        """(f, 3) float64, read-only: area-weighted unit normal of each face (zero if degenerate).
-
-        Worked out on first use and kept (clustering reads it twice per bake).
+        """(f, 3) float64: area-weighted unit normal of each face (zero if degenerate), worked out at each use
+        (clustering reads it once; 24 bytes a face kept would last through the bake).
         """
         summed = scatter_rows(np.add, np.zeros((self.face_count, 3)), self.triangle_face, self.triangle_cross)
         length = np.linalg.norm(summed, axis=1)
@@ -208,7 +206,6 @@ class TriangleMesh:
         face_scale[self.triangle_face] = self.triangle_scale
         ok = length > 2.0 * DEGENERATE_AREA * face_scale**2
         out[ok] = summed[ok] / length[ok, None]
-        out.setflags(write=False)
         return out
 
     @property
