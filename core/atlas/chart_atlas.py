@@ -52,9 +52,9 @@ class Atlas:
         Affine map from each chart's scaled plane coordinates to texels.
     mesh : TriangleMesh
         The mesh the members are triangles of.
-    membership : (t, 3) int64
+    membership : (t, 3) int32 (int64 past 2**31 members)
         Member of each triangle on axis X, Y, Z (``-1``: not in a chart there).
-    dominant_member : (t,) int64
+    dominant_member : (t,) int32 (int64 past 2**31 members)
         Member of each triangle on its face's dominant axis (never ``-1``).
     member_placed : (m,) bool
         False for members added for faces in no chart (zero area): they
@@ -151,14 +151,19 @@ def chart_members(mesh, charts):
     Returns
     -------
     member_triangle, member_chart : (m,) int64
-    membership : (t, 3) int64
+    membership : (t, 3) int32 (int64 past 2**31 members)
         Member index of each triangle per axis, ``-1`` where it has no chart.
     """
     per_axis = charts.chart_of_face[mesh.triangle_face]             # (t, 3)
     triangle, axis = np.nonzero(per_axis >= 0)
-    membership = np.full(per_axis.shape, -1, dtype=np.int64)
+    membership = np.full(per_axis.shape, -1, dtype=_index_type(len(triangle) + len(mesh.triangles)))
     membership[triangle, axis] = np.arange(len(triangle))
     return triangle.astype(np.int64), per_axis[triangle, axis], membership
+
+
+def _index_type(count):
+    """int32 for indices below ``count`` where they fit (half the memory of int64), else int64."""
+    return np.int32 if count < 2**31 else np.int64
 
 
 def _member_plane_area(mesh, charts, member_triangle, member_chart):
@@ -272,7 +277,7 @@ def _members_with_orphans(mesh, topology, charts, membership, member_triangle, m
     if len(orphan_triangle):
         member_triangle = np.concatenate([member_triangle, orphan_triangle])
         member_chart = np.concatenate([member_chart, orphan_chart])
-    dominant_member = np.full(len(mesh.triangles), -1, dtype=np.int64)
+    dominant_member = np.full(len(mesh.triangles), -1, dtype=membership.dtype)
     face_dominant = charts.dominant_axis[mesh.triangle_face]
     live_face = face_dominant >= 0
     dominant_member[live_face] = membership[live_face, face_dominant[live_face] // 2]
