@@ -407,7 +407,7 @@ def texel_geometry(texels, atlas, mesh, selection=slice(None)):
 def _rim_distance(mesh, triangle, bary):
     """(k,) float64: distance of the points at barycentrics ``bary`` (three (k,) arrays, each >= 0) of
     ``triangle`` (k,) from its border, in object units."""
-    height = mesh.corner_height[triangle]
+    height = mesh.corner_height_of(triangle)
     b0, b1, b2 = bary
     return np.minimum(np.minimum(b0 * height[:, 0], b1 * height[:, 1]), b2 * height[:, 2])
 

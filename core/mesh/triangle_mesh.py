@@ -82,7 +82,8 @@ class TriangleMesh:
     corner_height : (t, 3) float64
         Each triangle's height over the side opposite each corner (0 for a
         degenerate triangle): a point at barycentrics ``b`` is ``min(b *
-        corner_height)`` from the triangle's border.
+        corner_height)`` from the triangle's border.  A new array each use:
+        a bake asks :meth:`corner_height_of` the triangles it needs.
     """
 
     positions: np.ndarray
@@ -100,7 +101,6 @@ class TriangleMesh:
     triangle_area: np.ndarray = field(init=False, repr=False, default=None)
     triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
     degenerate: np.ndarray = field(init=False, repr=False, default=None)
-    corner_height: np.ndarray = field(init=False, repr=False, default=None)
 
     def __post_init__(self):
         self.positions = np.ascontiguousarray(self.positions, dtype=np.float64).reshape(-1, 3)
@@ -128,9 +128,6 @@ class TriangleMesh:
         self.triangle_cross = np.cross(second - first, third - first)
         length = _row_length(self.triangle_cross)
         self.triangle_area = 0.5 * length
-        # each corner's opposite side, one (t, 3) array at a time (row lengths of a (t, 3, 3) stack cost more)
-        side = np.stack([_row_length(third - second), _row_length(first - third), _row_length(second - first)], axis=1)
-        self.corner_height = length[:, None] / np.maximum(side, 1e-300)
         self.degenerate = self.triangle_area <= DEGENERATE_AREA * self.scale**2
         self.triangle_normal = np.zeros_like(self.triangle_cross)
         np.divide(self.triangle_cross, length[:, None], out=self.triangle_normal, where=~self.degenerate[:, None])
@@ -176,6 +173,20 @@ class TriangleMesh:
         return combined, np.cumsum([0] + [len(m.triangles) for m in meshes])
 
     corners = property(lambda self: self.positions[self.triangles], doc="(t, 3, 3) float64, a new copy each use")
+    corner_height = property(lambda self: self.corner_height_of(slice(None)),
+                             doc="(t, 3) float64, each triangle's heights, a new array each use")
+
+    def corner_height_of(self, triangle):
+        """(k, 3) float64: the height of each of ``triangle`` (k,) int (or a slice) over the side opposite each
+        corner (0 for a degenerate triangle), worked out from the vertices (the same bits whichever triangles
+        are asked for; kept, they were 24 bytes a triangle through the whole bake)."""
+        corners = self.positions[self.triangles[triangle]]
+        first, second, third = corners[:, 0], corners[:, 1], corners[:, 2]
+        length = _row_length(np.cross(second - first, third - first))
+        # each corner's opposite side, one (k, 3) array at a time (row lengths of a (k, 3, 3) stack cost more)
+        side = np.stack([_row_length(third - second), _row_length(first - third), _row_length(second - first)], axis=1)
+        return length[:, None] / np.maximum(side, 1e-300)
+
     corner_normals = property(lambda self: self.normals_of(slice(None)),
                               doc="(t, 3, 3) float64, unit corner normals, a new array each use")
 
