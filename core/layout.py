@@ -91,6 +91,7 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     timings["pack"] = time.perf_counter() - start
     mesh_report = topology.report
     del topology                          # 40 MB a million triangles, needed by no later step
+    mesh.let_go_of_cross()                # and 24 MB: read by the charts and the packing only
 
     start = time.perf_counter()
     texels = rasterise(atlas, mesh, padding=atlas.padding)

@@ -97,7 +97,7 @@ class TriangleMesh:
     stray: np.ndarray = field(init=False, repr=False, default=None)
     part_of_vertex: np.ndarray = field(init=False, repr=False, default=None)
     part_scale: np.ndarray = field(init=False, repr=False, default=None)
-    triangle_cross: np.ndarray = field(init=False, repr=False, default=None)
+    _cross: np.ndarray = field(init=False, repr=False, default=None)
     triangle_area: np.ndarray = field(init=False, repr=False, default=None)
     triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
     degenerate: np.ndarray = field(init=False, repr=False, default=None)
@@ -125,12 +125,12 @@ class TriangleMesh:
         self.part_scale = np.array([self.scale])
         corners = self.positions[self.triangles]
         first, second, third = corners[:, 0], corners[:, 1], corners[:, 2]
-        self.triangle_cross = np.cross(second - first, third - first)
-        length = _row_length(self.triangle_cross)
+        self._cross = np.cross(second - first, third - first)
+        length = _row_length(self._cross)
         self.triangle_area = 0.5 * length
         self.degenerate = self.triangle_area <= DEGENERATE_AREA * self.scale**2
-        self.triangle_normal = np.zeros_like(self.triangle_cross)
-        np.divide(self.triangle_cross, length[:, None], out=self.triangle_normal, where=~self.degenerate[:, None])
+        self.triangle_normal = np.zeros_like(self._cross)
+        np.divide(self._cross, length[:, None], out=self.triangle_normal, where=~self.degenerate[:, None])
 
     @classmethod
     def from_triangles(cls, positions, triangles, smooth=False):
@@ -173,6 +173,24 @@ class TriangleMesh:
         return combined, np.cumsum([0] + [len(m.triangles) for m in meshes])
 
     corners = property(lambda self: self.positions[self.triangles], doc="(t, 3, 3) float64, a new copy each use")
+    @property
+    def triangle_cross(self):
+        """(t, 3) float64: ``(second - first) x (third - first)`` of each triangle's corners.  Kept from the
+        build until :meth:`let_go_of_cross` (the layout's charts and packing are its last readers, and
+        24 bytes a triangle would last through the bake), then worked out again if asked."""
+        if self._cross is None:
+            corners = self.positions[self.triangles]
+            self._cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        return self._cross
+
+    @triangle_cross.setter
+    def triangle_cross(self, value):
+        self._cross = value
+
+    def let_go_of_cross(self):
+        """Free :attr:`triangle_cross` (it comes back, the same bits, if read again)."""
+        self._cross = None
+
     corner_height = property(lambda self: self.corner_height_of(slice(None)),
                              doc="(t, 3) float64, each triangle's heights, a new array each use")
 
