@@ -178,8 +178,8 @@ def expected_density(mesh, charts, image_size):
     member_triangle, member_chart, _ = chart_members(mesh, charts)
     member_area = _member_plane_area(mesh, charts, member_triangle, member_chart)
     density = estimate_density(float(member_area.sum()), image_size)
-    # a triangle's longest side (twice its area over its least height) is longer than any projection of it
-    longest = 2.0 * mesh.triangle_area / np.maximum(mesh.corner_height.min(axis=1), 1e-300)
+    # a triangle's longest side is longer than any projection of it
+    longest = mesh.longest_side
     if not longest.max(initial=0.0) * density > SHRUNK_CHART_SHARE * LONG_CHART_IMAGES * image_size:
         return density
     factor = long_chart_factors(longest[member_triangle], member_area, np.arange(len(member_area)),

@@ -84,6 +84,11 @@ class TriangleMesh:
         degenerate triangle): a point at barycentrics ``b`` is ``min(b *
         corner_height)`` from the triangle's border.  A new array each use:
         a bake asks :meth:`corner_height_of` the triangles it needs.
+    longest_side : (t,) float64
+        Twice each triangle's area over its least ``corner_height``: its
+        longest side (0 for a degenerate one), kept (the density estimate
+        reads all of them, and working the heights out again took 0.2 to
+        0.4 s at a million triangles).
     """
 
     positions: np.ndarray
@@ -98,6 +103,7 @@ class TriangleMesh:
     part_of_vertex: np.ndarray = field(init=False, repr=False, default=None)
     part_scale: np.ndarray = field(init=False, repr=False, default=None)
     _cross: np.ndarray = field(init=False, repr=False, default=None)
+    longest_side: np.ndarray = field(init=False, repr=False, default=None)
     triangle_area: np.ndarray = field(init=False, repr=False, default=None)
     triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
     degenerate: np.ndarray = field(init=False, repr=False, default=None)
@@ -128,6 +134,8 @@ class TriangleMesh:
         self._cross = np.cross(second - first, third - first)
         length = _row_length(self._cross)
         self.triangle_area = 0.5 * length
+        least_height = _corner_heights(first, second, third, length).min(axis=1)
+        self.longest_side = 2.0 * self.triangle_area / np.maximum(least_height, 1e-300)
         self.degenerate = self.triangle_area <= DEGENERATE_AREA * self.scale**2
         self.triangle_normal = np.zeros_like(self._cross)
         np.divide(self._cross, length[:, None], out=self.triangle_normal, where=~self.degenerate[:, None])
@@ -200,10 +208,7 @@ class TriangleMesh:
         are asked for; kept, they were 24 bytes a triangle through the whole bake)."""
         corners = self.positions[self.triangles[triangle]]
         first, second, third = corners[:, 0], corners[:, 1], corners[:, 2]
-        length = _row_length(np.cross(second - first, third - first))
-        # each corner's opposite side, one (k, 3) array at a time (row lengths of a (k, 3, 3) stack cost more)
-        side = np.stack([_row_length(third - second), _row_length(first - third), _row_length(second - first)], axis=1)
-        return length[:, None] / np.maximum(side, 1e-300)
+        return _corner_heights(first, second, third, _row_length(np.cross(second - first, third - first)))
 
     corner_normals = property(lambda self: self.normals_of(slice(None)),
                               doc="(t, 3, 3) float64, unit corner normals, a new array each use")
@@ -285,6 +290,14 @@ def sanitized_normals(corner_normals, triangle_normal):
         normals[still_bad] = (0.0, 0.0, 1.0)
         length[still_bad] = 1.0
     return normals / length[..., None]
+
+
+def _corner_heights(first, second, third, length):
+    """(k, 3) float64: height over the side opposite each corner of triangles with corners ``first``,
+    ``second``, ``third`` (k, 3) and cross-product lengths ``length`` (k,); each side one (k, 3) array at a
+    time (row lengths of a (k, 3, 3) stack cost more)."""
+    side = np.stack([_row_length(third - second), _row_length(first - third), _row_length(second - first)], axis=1)
+    return length[:, None] / np.maximum(side, 1e-300)
 
 
 def _row_length(vectors):
