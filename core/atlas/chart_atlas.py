@@ -41,17 +41,7 @@ class Atlas:
     member_chart : (m,) int64
         ... and chart.
     member_uv : (m, 3, 2) float64
-        Corners of the member in texel coordinates, worked out again at
-        each use (:meth:`member_uv_of` those of some members): the atlas
-        keeps only how each chart is scaled and placed, not 48 bytes a
-        member (66 MB at a million triangles, kept through every bake).
-    chart_scale : (c,) float64
-        Each chart's own scale of its plane coordinates (1 but for long
-        charts, :func:`.long_charts.long_chart_factors`).
-    chart_transform : (c, 2, 3) float64
-        Affine map from each chart's scaled plane coordinates to texels.
-    mesh : TriangleMesh
-        The mesh the members are triangles of.
+        Corners of the member in texel coordinates.
     membership : (t, 3) int32 (int64 past 2**31 members)
         Member of each triangle on axis X, Y, Z (``-1``: not in a chart there).
     dominant_member : (t,) int32 (int64 past 2**31 members)
@@ -81,11 +71,9 @@ class Atlas:
     utilisation: float
     member_triangle: np.ndarray
     member_chart: np.ndarray
-    chart_scale: np.ndarray
-    chart_transform: np.ndarray
+    member_uv: np.ndarray
     membership: np.ndarray
     dominant_member: np.ndarray
-    mesh: object = field(default=None, repr=False)
     member_placed: np.ndarray = None
     charts: object = field(default=None, repr=False)
     chart_texel: np.ndarray = None
@@ -96,18 +84,6 @@ class Atlas:
     @property
     def size(self):
         return np.array([self.width, self.height], dtype=np.float64)
-
-    member_uv = property(lambda self: self.member_uv_of(slice(None)),
-                         doc="(m, 3, 2) float64, every member's corners in texels, a new array each use")
-
-    def member_uv_of(self, member):
-        """(k, 3, 2) float64: the corners of members ``member`` (k,) int or a slice in texel coordinates,
-        from the vertices: projected on the chart's plane, scaled and placed as the chart was (the same bits
-        whichever members are asked for)."""
-        chart = self.member_chart[member]
-        local = project_corners(self.mesh, self.member_triangle[member], self.charts.chart_axis[chart])
-        local *= self.chart_scale[chart][:, None, None]
-        return _apply(self.chart_transform[chart], local)
 
     def layer_uv(self):
         """(t, 3, 3, 2) float64: UV of each triangle corner in layers ``AO_X``, ``AO_Y``, ``AO_Z``
@@ -135,7 +111,7 @@ class Atlas:
         layer at a time: a bake writes the layers one by one, and the three
         together are 72 bytes per triangle (72 MB at a million triangles).
         """
-        uv = self.member_uv_of(self.layer_member(axis, triangles))
+        uv = self.member_uv[self.layer_member(axis, triangles)]
         # column by column: what ``uv /= size`` and ``np.clip`` compute, in a fifth of the time
         for column, size in enumerate((float(self.width), float(self.height))):
             values = uv[..., column]
@@ -241,7 +217,6 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     area = float(member_area[live].sum())
     expected = density if density is not None else estimate_density(area, image_size, 0.7)
     covers = chart_covers(local_uv[live], member_chart[live], charts.count, expected)
-    del local_uv                          # the atlas works out any member's UVs again (Atlas.member_uv_of)
     if image_size is not None:
         # the density at which the charts' boxes with the least padding fill the image
         all_points = POINT_TEXELS / max(covers.extent.max(), 1e-300)
@@ -251,9 +226,12 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     packer = Packer(covers, _chart_centres(mesh, member_triangle, member_chart, charts.count), padding)
     placement = (largest_density(packer, int(image_size), area) if image_size is not None
                  else _place_at_density(packer, covers, area, density, padding, max_size))
+    transforms = placement.transforms()                                    # (c, 2, 3)
+    member_uv = _apply(transforms[member_chart], local_uv)
+    del local_uv
     placed = len(member_triangle)
-    member_triangle, member_chart, dominant_member = _members_with_orphans(
-        mesh, topology, charts, membership, member_triangle, member_chart)
+    member_triangle, member_chart, member_uv, dominant_member = _members_with_orphans(
+        mesh, topology, charts, membership, member_triangle, member_chart, member_uv, transforms, factor)
     point_member = _largest_member(mesh, member_triangle, member_chart, charts.count, placed,
                                    placement.point_texel >= 0)
     width, height = placement.width, placement.height                     # texels
@@ -262,19 +240,23 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     return Atlas(
         width=width, height=height, density=placement.density,
         utilisation=float(min(1.0, (drawn_area * placement.density**2 + point_texels) / (width * height))),
-        member_triangle=member_triangle, member_chart=member_chart, chart_scale=factor,
-        chart_transform=placement.transforms(), membership=membership, dominant_member=dominant_member, mesh=mesh,
+        member_triangle=member_triangle, member_chart=member_chart, member_uv=member_uv,
+        membership=membership, dominant_member=dominant_member,
         member_placed=np.arange(len(member_triangle)) < placed,
         charts=charts, chart_texel=placement.point_texel, chart_texel_member=point_member,
         padding=padding, warnings=long_chart_warning(factor) + placement.warnings())
 
 
-def _members_with_orphans(mesh, topology, charts, membership, member_triangle, member_chart):
+def _members_with_orphans(mesh, topology, charts, membership, member_triangle, member_chart, member_uv, transforms,
+                          factor):
     """The members with one more for each triangle of a face in no chart (zero area: a neighbour's chart,
     :func:`_adopt_orphans`), at the end; and ``dominant_member`` (t,): each triangle's member on its face's
     dominant axis (an orphan's own)."""
     orphan_triangle, orphan_chart = _adopt_orphans(mesh, topology, charts)
     if len(orphan_triangle):
+        orphan_local = project_corners(mesh, orphan_triangle, charts.chart_axis[orphan_chart])
+        orphan_local *= factor[orphan_chart][:, None, None]
+        member_uv = np.concatenate([member_uv, _apply(transforms[orphan_chart], orphan_local)])
         member_triangle = np.concatenate([member_triangle, orphan_triangle])
         member_chart = np.concatenate([member_chart, orphan_chart])
     dominant_member = np.full(len(mesh.triangles), -1, dtype=membership.dtype)
@@ -282,7 +264,7 @@ def _members_with_orphans(mesh, topology, charts, membership, member_triangle, m
     live_face = face_dominant >= 0
     dominant_member[live_face] = membership[live_face, face_dominant[live_face] // 2]
     dominant_member[orphan_triangle] = len(member_triangle) - len(orphan_triangle) + np.arange(len(orphan_triangle))
-    return member_triangle, member_chart, dominant_member
+    return member_triangle, member_chart, member_uv, dominant_member
 
 
 def _place_at_density(packer, covers, area, density, padding, max_size):
