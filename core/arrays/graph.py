@@ -8,6 +8,11 @@ import math
 import numpy as np
 
 
+def index_type(count):
+    """int32 for indices below ``count`` where they fit (half the bytes of int64), else int64."""
+    return np.int32 if count < 2**31 else np.int64
+
+
 def connected_components(count, edges):
     """Label the connected components of an undirected graph.
 
@@ -28,7 +33,7 @@ def connected_components(count, edges):
     vectorised: O((count + m) log count) in the worst case.
     """
     # int32 indices where they fit: every pass gathers and compares, so half the bytes is a third off
-    index = np.int32 if count < 2**31 else np.int64
+    index = index_type(count)
     parent = np.arange(count, dtype=index)
     edges = np.asarray(edges).reshape(-1, 2)
     u, v = edges[:, 0].astype(index), edges[:, 1].astype(index)

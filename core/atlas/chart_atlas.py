@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..arrays.graph import index_type
 from ..charts.clustering import project_corners
 from ..errors import SeamlessAOError
 from .cover import chart_covers
@@ -132,14 +133,9 @@ def chart_members(mesh, charts):
     """
     per_axis = charts.chart_of_face[mesh.triangle_face]             # (t, 3)
     triangle, axis = np.nonzero(per_axis >= 0)
-    membership = np.full(per_axis.shape, -1, dtype=_index_type(len(triangle) + len(mesh.triangles)))
+    membership = np.full(per_axis.shape, -1, dtype=index_type(len(triangle) + len(mesh.triangles)))
     membership[triangle, axis] = np.arange(len(triangle))
     return triangle.astype(np.int64), per_axis[triangle, axis], membership
-
-
-def _index_type(count):
-    """int32 for indices below ``count`` where they fit (half the memory of int64), else int64."""
-    return np.int32 if count < 2**31 else np.int64
 
 
 def _member_plane_area(mesh, charts, member_triangle, member_chart):

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..arrays.geometry2d import band_x_extent, closest_barycentric, corner_max, corner_min, point_keys, triangle_score
-from ..arrays.graph import index_in_runs, sort_order
+from ..arrays.graph import index_in_runs, index_type, sort_order
 from ..arrays.grid import neighbour_texels, neighbour_values
 
 COVERED, NEAR, PADDING = 0, 1, 2
@@ -183,7 +183,7 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
     -------
     Texels whose ``member`` indexes ``triangle_uv``.
     """
-    member_map = np.full(width * height, -1, dtype=np.int64 if width * height >= 2**31 else np.int32)
+    member_map = np.full(width * height, -1, dtype=index_type(width * height))
     kind = np.full(width * height, PADDING, dtype=np.int8)
     if fixed_texel is not None and len(fixed_texel):
         member_map[fixed_texel] = fixed_member
