@@ -94,8 +94,9 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     whole = np.flatnonzero(r1 - r0 <= 1)
     whole_low, whole_high, whole_first = member_low[whole, 0], member_high[whole, 0], first_row[member_chart[whole]]
     for whole_row in (r0[whole], r1[whole]):
-        np.minimum.at(x_low, whole_first + whole_row, whole_low)
-        np.maximum.at(x_high, whole_first + whole_row, whole_high)
+        key = whole_first + whole_row
+        np.minimum.at(x_low, key, whole_low)
+        np.maximum.at(x_high, key, whole_high)
     del whole, whole_low, whole_high, whole_first, chart_low_y, chart_band
     count = r1[long] - r0[long] + 1
     pair_member = np.repeat(long, count)
