@@ -129,8 +129,7 @@ class TriangleMesh:
         self.scale = box_size(low, high) if t else mesh_size(self.positions)
         self.part_of_vertex = np.zeros(len(self.positions), dtype=np.int64)
         self.part_scale = np.array([self.scale])
-        corners = self.positions[self.triangles]
-        first, second, third = corners[:, 0], corners[:, 1], corners[:, 2]
+        first, second, third = self.positions[self.triangles].transpose(1, 0, 2)
         self._cross = np.cross(second - first, third - first)
         length = _row_length(self._cross)
         self.triangle_area = 0.5 * length
@@ -187,8 +186,8 @@ class TriangleMesh:
         build until :meth:`let_go_of_cross` (the layout's charts and packing are its last readers, and
         24 bytes a triangle would last through the bake), then worked out again if asked."""
         if self._cross is None:
-            corners = self.positions[self.triangles]
-            self._cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+            first, second, third = self.positions[self.triangles].transpose(1, 0, 2)
+            self._cross = np.cross(second - first, third - first)
         return self._cross
 
     @triangle_cross.setter
