@@ -15,6 +15,7 @@ meshes, makes casters, and writes what :class:`BakeResult` holds.
 """
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -55,9 +56,10 @@ class BakeResult:
         return self.layout.atlas.layer_uv()
 
     def part_axis_uv(self, part):
-        """The UVs of input mesh ``part``'s triangles in AO_X, AO_Y and AO_Z: three (k, 3 corners, 2) float64."""
+        """The UVs of input mesh ``part``'s triangles in AO_X, AO_Y and AO_Z: three (k, 3 corners, 2) float64,
+        each worked out when read (:class:`LayerByLayer`)."""
         triangles = self.part_triangles(part)
-        return [self.layout.atlas.axis_uv(axis, triangles) for axis in range(3)]
+        return LayerByLayer(lambda axis: self.layout.atlas.axis_uv(axis, triangles))
 
     def part_layer_drop(self, part):
         """(k, 3) int8: for input mesh ``part``'s triangles, the coordinate each one's chart in AO_X, AO_Y and
@@ -75,6 +77,23 @@ class BakeResult:
         counts = np.bincount(self.layout.part_of_triangle, minlength=part + 1)
         start = int(counts[:part].sum())
         return slice(start, start + int(counts[part]))
+
+
+class LayerByLayer(Sequence):
+    """The three UV layers AO_X, AO_Y and AO_Z, each made by ``make(axis)`` when read and not kept: a writer
+    that reads them one at a time holds one layer (48 bytes a triangle in float64), not all three (144 MB
+    at a million triangles, bench_million's peak while the UV maps were written)."""
+
+    def __init__(self, make):
+        self._make = make
+
+    def __len__(self):
+        return 3
+
+    def __getitem__(self, axis):
+        if not 0 <= axis < 3:
+            raise IndexError(axis)
+        return self._make(axis)
 
 
 class BakePipeline:

@@ -18,6 +18,7 @@ import os
 import numpy as np
 
 from ..mesh.triangle_mesh import TriangleMesh
+from ..pipeline import LayerByLayer
 from ..settings import BakeSettings
 
 JOB = "job.json"
@@ -148,8 +149,9 @@ class HandedBack:
     numbers: dict
 
     def part_axis_uv(self, part):
-        """Input mesh ``part``'s triangles' UVs in AO_X, AO_Y and AO_Z: three (k, 3, 2) float64."""
-        return [_load(self.folder, "uv{}_{}".format(part, axis)) for axis in range(3)]
+        """Input mesh ``part``'s triangles' UVs in AO_X, AO_Y and AO_Z: three (k, 3, 2) float64, each read
+        from its file when asked for (:class:`..pipeline.LayerByLayer`)."""
+        return LayerByLayer(lambda axis: _load(self.folder, "uv{}_{}".format(part, axis)))
 
     def part_shown_uv(self, part):
         """(3, l, 2) float32 or None: see :meth:`..pipeline.BakeResult.part_shown_uv`."""

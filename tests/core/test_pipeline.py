@@ -73,6 +73,14 @@ def test_parts_keep_their_triangles_and_see_what_the_occluders_give():
     for part in (0, 1):
         for axis, uv in enumerate(together.part_axis_uv(part)):
             np.testing.assert_array_equal(uv, every[together.part_triangles(part), axis])
+    # each layer is made when read and not kept (a writer holds one layer at a time): a read changed by its
+    # reader leaves the next read as it was
+    layers = together.part_axis_uv(1)
+    assert len(layers) == 3 and np.stack(layers).shape == (3, len(floor.triangles), 3, 2)
+    layers[2][:] = -1.0
+    np.testing.assert_array_equal(layers[2], every[together.part_triangles(1), 2])
+    with pytest.raises(IndexError):
+        layers[3]
     floor_texels = together.layout.part_of_texel() == 1
     under = floor_texels & together.computed
     assert together.texel_ao[under].mean() < alone.texel_ao[under].mean() - 0.02
