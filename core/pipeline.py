@@ -22,6 +22,7 @@ import numpy as np
 
 from .atlas.viewport_uv import surface_uv
 from .budget import check_budget, planned_size
+from .freed_memory import give_back_freed_memory
 from .image.denoise import denoise
 from .image.fill import texel_image
 from .layout import Layout, build_layout
@@ -154,6 +155,8 @@ class BakePipeline:
             for index, (mesh, matrix) in enumerate(zip(self.meshes, self.matrices)):
                 near = self.occluders[index] if self.occluders is not None and settings.use_scene_occluders else None
                 self.parts.append(ray_part(mesh, matrix, settings, self.make_caster, near))
+            # The casters' BVHs come next, in blocks of their own: the layout's freed temporaries go back first
+            give_back_freed_memory(sum(len(mesh.triangles) for mesh in self.meshes))
             targets = TexelTargets(layout)
             job = AOJob(targets, self.parts, weighted=settings.weighted_rays)
             while not job.finished:

@@ -25,6 +25,7 @@ import bpy
 import numpy as np
 
 from ...core.errors import SeamlessAOError
+from ...core.freed_memory import give_back_freed_memory
 from ...core.keys import TEMP_PREFIX
 from ...core.rays.ao import ray_origins
 from .cycles_device import cycles_device
@@ -123,6 +124,8 @@ class CyclesAmbientOcclusion:
 
     def _bake(self, mesh, height, count, samples, params):
         """Cycles' AO bake of the texel mesh ``mesh`` (:func:`_texel_mesh`) into one image row by row."""
+        # Cycles takes its memory afresh: what the rays before it freed goes back first (core/freed_memory.py)
+        give_back_freed_memory(len(self.occluder.data.polygons))
         made = []
         try:
             image = _made(made, bpy.data.images.new(TEMP_PREFIX + "texels", IMAGE_WIDTH, height, alpha=False,
