@@ -11,7 +11,6 @@ import datetime
 import os
 import pathlib
 import platform
-import resource
 import subprocess
 import sys
 import time
@@ -24,6 +23,7 @@ import package  # noqa: E402  (imports bpy and the add-on as ``seamless_ao``)
 import bpy  # noqa: E402
 from accuracy import reference_ao, surface_samples  # noqa: E402
 from blender_scenes import suzanne  # noqa: E402
+from process_memory import process_peak_mb, resident_mb  # noqa: E402,F401  (the benches' memory figures)
 from seamless_ao.core.settings import BakeSettings  # noqa: E402
 from seamless_ao.operators.adapters.mesh_data import read_triangles  # noqa: E402
 
@@ -48,33 +48,6 @@ class Stopwatch:
             self.peak_mb = tracemalloc.get_traced_memory()[1] / 2**20
             tracemalloc.stop()
         return False
-
-
-def _status_mb(field):
-    """A memory figure of this process from Linux's /proc/self/status (``VmRSS``, ``VmHWM``), MB; None where
-    there is no such file."""
-    try:
-        with open("/proc/self/status") as status:
-            for line in status:
-                if line.startswith(field + ":"):
-                    return int(line.split()[1]) / 1024.0
-    except OSError:
-        pass
-    return None
-
-
-def resident_mb():
-    """Resident memory of this process now, MB (0 where /proc is missing)."""
-    return _status_mb("VmRSS") or 0.0
-
-
-def process_peak_mb():
-    """Peak resident memory of this process so far, MB: Linux's VmHWM, the high-water mark of this
-    process's own memory.  Not ``ru_maxrss``: Linux carries a process's ru_maxrss over from the process
-    that started it (exec keeps the larger of the two), so a child started by a bench that had baked a
-    1M-triangle mesh reported that bench's 2.1 to 2.5 GB instead of its own 1.65."""
-    peak = _status_mb("VmHWM")
-    return peak if peak is not None else resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]

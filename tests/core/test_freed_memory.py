@@ -6,14 +6,10 @@ import sys
 
 import pytest
 
+from process_memory import resident_mb
 from seamless_ao.core.freed_memory import GIVE_BACK_FROM_TRIANGLES, give_back_freed_memory
 
 GLIBC = sys.platform.startswith("linux") and platform.libc_ver()[0] == "glibc"
-
-
-def _resident_mb():
-    with open("/proc/self/statm") as statm:
-        return int(statm.read().split()[1]) * 4096 / 2**20
 
 
 @pytest.mark.skipif(not GLIBC, reason="malloc_trim is glibc's")
@@ -28,11 +24,11 @@ def test_pages_freed_under_a_block_still_in_use_leave_the_process_in_a_big_bake_
         ctypes.memset(address, 1, block)             # resident
     for address in blocks[:-1]:
         libc.free(address)                           # the last one keeps the heap's top where it is
-    before = _resident_mb()
+    before = resident_mb()
     assert not give_back_freed_memory(GIVE_BACK_FROM_TRIANGLES - 1)    # a small bake keeps its heap
-    assert _resident_mb() > before - 20
+    assert resident_mb() > before - 20
     assert give_back_freed_memory(GIVE_BACK_FROM_TRIANGLES)
-    after = _resident_mb()
+    after = resident_mb()
     libc.free(blocks[-1])
     assert before - after > 150, (before, after)
 
