@@ -13,7 +13,10 @@ in, which cost the 70k- to 250k-triangle bakes of ``tests/bench/report.py``
 5 to 6% of their time when every bake did it (their free heap, 20 to 200 MB,
 says little about the bake: it is what earlier bakes in the process left).
 So only bakes of at least :data:`GIVE_BACK_FROM_TRIANGLES` triangles, whose
-peaks it is about, give memory back.
+peaks it is about, give memory back, and before the rays only where Cycles
+bakes the bulk (``core/pipeline.py``): a bake the Geometry Nodes caster
+casts alone (as Automatic does at 4 rays or fewer) has no Cycles scene to
+make room for, and its next bake would only fault the pages back in.
 
 Elsewhere (another C library, Windows, macOS) this does nothing: glibc's
 call is the one this was measured with.

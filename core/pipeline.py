@@ -155,10 +155,13 @@ class BakePipeline:
             for index, (mesh, matrix) in enumerate(zip(self.meshes, self.matrices)):
                 near = self.occluders[index] if self.occluders is not None and settings.use_scene_occluders else None
                 self.parts.append(ray_part(mesh, matrix, settings, self.make_caster, near))
-            # The casters' BVHs come next, in blocks of their own: the layout's freed temporaries go back first
-            give_back_freed_memory(sum(len(mesh.triangles) for mesh in self.meshes))
             targets = TexelTargets(layout)
             job = AOJob(targets, self.parts, weighted=settings.weighted_rays)
+            # Where Cycles bakes the bulk, its scene and the pilot's BVH come next, in blocks of their own: the
+            # layout's freed temporaries go back first.  A bake the node casts alone keeps them (no peak to keep
+            # down there, and the pages would fault back in: about 0.3 s a million triangles).
+            if job.whole_parts.any():
+                give_back_freed_memory(sum(len(mesh.triangles) for mesh in self.meshes))
             while not job.finished:
                 fraction = job.step()
                 yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)

@@ -103,3 +103,26 @@ def test_the_noise_reported_is_that_of_two_seeds_apart(rays):
     if rays > 1:                                            # what each texel's own rays alone would say
         sampled = first.computed & ~first.buried
         assert noise_estimate(first.texel_ao[sampled], first.ray_count[sampled]) > 1.6 * truth
+
+
+class ShadesWholeTexels(BVHCaster):
+    """A BVH caster that also shades whole texels, as the Blender side's Cycles caster does (all open)."""
+
+    bakes_whole_texels = True
+
+    def ambient_occlusion(self, points, normals, geometric, samples, params):
+        return np.ones(len(points))
+
+
+@pytest.mark.parametrize("make_caster, rays, gives_back", [(BVHCaster, 16, False), (ShadesWholeTexels, 4, False),
+                                                           (ShadesWholeTexels, 16, True)])
+def test_freed_memory_goes_back_before_the_rays_only_where_a_caster_bakes_the_bulk(make_caster, rays, gives_back,
+                                                                                 monkeypatch):
+    """core/freed_memory.py: the layout's freed heap is handed back before the rays where Cycles will bake
+    the bulk (its scene comes on top of the pilot's BVH), not where the node casts every ray (at 4 rays the
+    pilot's own): the pages would only fault back in."""
+    asked = []
+    monkeypatch.setattr("seamless_ao.core.pipeline.give_back_freed_memory", asked.append)
+    mesh = TriangleMesh.from_triangles(*meshes.torus(rings=24, segments=12), smooth=True)
+    bake_arrays(mesh, rays=rays, image_size=256, make_caster=make_caster)
+    assert asked == ([len(mesh.triangles)] if gives_back else [])
