@@ -211,8 +211,8 @@ def _pairs_apart_in_depth(entry, cell_x, cell_y, starts, depth, spread):
     first = np.clip(first, position + 1, end)
     here = np.repeat(position, end - first)
     there = np.repeat(first, end - first) + index_in_runs(end - first)
-    a, b = entry[here], entry[there]
-    keep = _spread_exceeds(shallow, deep, a, b, spread)
+    # the depths in the cells' order: ``here`` runs in order and ``there`` stays within its cell
+    keep = _spread_exceeds(shallow[entry], deep[entry], here, there, spread)
     return entry, cell_x, cell_y, here[keep], there[keep]
 
 

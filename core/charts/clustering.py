@@ -251,9 +251,17 @@ def signed_axis_clusters(mesh, topology, compare_angle=60.0):
         seeded = np.zeros(mesh.face_count, dtype=bool)
         seeded[component[dominant == sign_of_face]] = True    # holds a face dominant on this sign
         member = (sign_of_face >= 0) & seeded[component]
-        chart_ids, local = np.unique(component[member], return_inverse=True)
-        first_face = np.flatnonzero(member)[np.unique(local, return_index=True)[1]]
-        chart_of_face[member, axis] = len(chart_axis) + local.reshape(-1)
+        # Each chart is a component of member faces (a face of a component of two or more has a sign, so a
+        # seeded component's faces are all members); components are numbered in order of their smallest
+        # face, the first of each number along the faces.  So each chart's number and first face, unsorted.
+        chart_face = component[member]
+        present = np.zeros(mesh.face_count, dtype=bool)
+        present[chart_face] = True
+        local = (np.cumsum(present) - 1)[chart_face]
+        first_of_component = np.ones(mesh.face_count, dtype=bool)
+        first_of_component[1:] = component[1:] > np.maximum.accumulate(component)[:-1]
+        first_face = np.flatnonzero(first_of_component)[np.flatnonzero(present)]
+        chart_of_face[member, axis] = len(chart_axis) + local
         chart_axis.extend(sign_of_face[first_face].tolist())
     return Charts(chart_of_face, np.array(chart_axis, dtype=np.int64), dominant.astype(np.int64))
 

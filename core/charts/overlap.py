@@ -187,14 +187,17 @@ def overlapping_wedges(uv, group, welded_triangles, live, pinch_keys, fan_vertic
         return empty
     vertex_count = int(welded_triangles.max()) + 1
     corner_vertex = welded_triangles[live]                                     # (k, 3)
-    key = group[live][:, None] * vertex_count + corner_vertex
-    keep = np.isin(key, pinch_keys)
+    # only corners at a vertex the keys name are looked up (np.isin sorted every corner's key, at 1M ~0.5 s)
+    named = np.zeros(vertex_count, dtype=bool)
+    named[pinch_keys % vertex_count] = True
     if fan_vertices is not None:
-        keep &= fan_vertices[corner_vertex]
-    triangle_index, corner = np.nonzero(keep)
-    if len(triangle_index) < 2:
+        named &= fan_vertices[:vertex_count]
+    triangle_index, corner = np.nonzero(named[corner_vertex])
+    key = group[live[triangle_index]] * vertex_count + corner_vertex[triangle_index, corner]
+    matched = pinch_keys[np.minimum(np.searchsorted(pinch_keys, key), len(pinch_keys) - 1)] == key
+    if np.count_nonzero(matched) < 2:
         return empty
-    triangle, key = live[triangle_index], key[triangle_index, corner]
+    triangle, corner, key = live[triangle_index[matched]], corner[matched], key[matched]
     at = uv[triangle, corner]
     toward = uv[triangle, (corner + 1) % 3] - at
     start = np.mod(np.arctan2(toward[:, 1], toward[:, 0]), 2.0 * np.pi)
