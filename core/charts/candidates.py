@@ -142,17 +142,17 @@ def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0):
     else:
         entry, cell_x, cell_y, here, there = _pairs_apart_in_depth(
             entry, cell_x, cell_y, starts, depth[live], spread)
-    i, j = entry[here], entry[there]
     # Each pair once, from the one cell both boxes hold whose corner is the larger of their low corners
-    # (no sort to drop repeats), and only where the boxes themselves meet.  Columns, not rows: faster.
-    first_x, first_y = np.ascontiguousarray(first[:, 0]), np.ascontiguousarray(first[:, 1])
-    keep = cell_x[here] == np.maximum(first_x[i], first_x[j])
-    keep &= cell_y[here] == np.maximum(first_y[i], first_y[j])
+    # (no sort to drop repeats), and only where the boxes themselves meet.  Each box's numbers in the
+    # entries' order first: ``here`` runs in order and ``there`` stays in its cell, so reads stay close.
+    first_x, first_y = first[entry, 0], first[entry, 1]
+    keep = cell_x[here] == np.maximum(first_x[here], first_x[there])
+    keep &= cell_y[here] == np.maximum(first_y[here], first_y[there])
     for axis in (0, 1):
-        axis_low, axis_high = np.ascontiguousarray(low[:, axis]), np.ascontiguousarray(high[:, axis])
-        keep &= axis_low[i] <= axis_high[j]
-        keep &= axis_low[j] <= axis_high[i]
-    i, j = i[keep], j[keep]
+        axis_low, axis_high = low[entry, axis], high[entry, axis]
+        keep &= axis_low[here] <= axis_high[there]
+        keep &= axis_low[there] <= axis_high[here]
+    i, j = entry[here[keep]], entry[there[keep]]
     if giant.any():                     # two giants: by their whole boxes (the grid only saw them clipped)
         apart = ~(giant[i] & giant[j])
         extra = giant_pairs(whole_low, whole_high, group[live], giant)
