@@ -159,7 +159,7 @@ class BakePipeline:
             job = AOJob(targets, self.parts, weighted=settings.weighted_rays)
             # Where Cycles bakes the bulk, its scene and the pilot's BVH come next, in blocks of their own: the
             # layout's freed temporaries go back first.  A bake the node casts alone keeps them (no peak to keep
-            # down there, and the pages would fault back in: about 0.3 s a million triangles).
+            # down there, and the pages would fault back in: 0.3 to 0.6 s at a million triangles).
             if job.whole_parts.any():
                 give_back_freed_memory(sum(len(mesh.triangles) for mesh in self.meshes))
             while not job.finished:
