@@ -7,6 +7,7 @@ import pytest
 import meshes
 from accuracy import P99_LIMIT, RMSE_LIMIT, errors
 from plain_reference import plain_ao, visible_points
+from whole_texel_caster import WholeTexelCaster
 from seamless_ao.core.rays.ao import noise_estimate
 from seamless_ao.core.image.shown import blended_ao
 from seamless_ao.core.layout import layer_lookup
@@ -105,17 +106,8 @@ def test_the_noise_reported_is_that_of_two_seeds_apart(rays):
         assert noise_estimate(first.texel_ao[sampled], first.ray_count[sampled]) > 1.6 * truth
 
 
-class ShadesWholeTexels(BVHCaster):
-    """A BVH caster that also shades whole texels, as the Blender side's Cycles caster does (all open)."""
-
-    bakes_whole_texels = True
-
-    def ambient_occlusion(self, points, normals, geometric, samples, params):
-        return np.ones(len(points))
-
-
-@pytest.mark.parametrize("make_caster, rays, gives_back", [(BVHCaster, 16, False), (ShadesWholeTexels, 4, False),
-                                                           (ShadesWholeTexels, 16, True)])
+@pytest.mark.parametrize("make_caster, rays, gives_back", [(BVHCaster, 16, False), (WholeTexelCaster, 4, False),
+                                                           (WholeTexelCaster, 16, True)])
 def test_freed_memory_goes_back_before_the_rays_only_where_a_caster_bakes_the_bulk(make_caster, rays, gives_back,
                                                                                  monkeypatch):
     """core/freed_memory.py: the layout's freed heap is handed back before the rays where Cycles will bake
