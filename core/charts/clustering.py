@@ -27,6 +27,7 @@ import numpy as np
 from ..arrays.geometry2d import group_boxes
 from ..arrays.graph import Adjacency, connected_components, group_starts, index_in_runs, scatter_rows
 from .overlap import FoldMemory, fold_conflicts
+from .sides import mesh_order
 from .splitting import part_conflicts
 
 #: (6, 3) unit vector of each signed axis.
@@ -307,6 +308,7 @@ def make_injective(mesh, topology, charts, margin=0.0):
     chart_axis = charts.chart_axis.copy()
     triangle_scale = mesh.triangle_scale
     corners = mesh.corners                       # (t, 3, 3): each axis projects all of them; freed on return
+    order = mesh_order(topology.welded_triangles)          # every round of every axis groups sides by it
     for axis in range(3):
         dirty = None                     # charts to check; None = all of this axis
         # A split chart keeps its signed axis, so the projection is the same every round.
@@ -319,7 +321,7 @@ def make_injective(mesh, topology, charts, margin=0.0):
                 group[~dirty[np.maximum(group, 0)]] = -1
             pairs = fold_conflicts(
                 uv, depth, group, topology.welded_triangles, mesh.triangle_face,
-                SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope, memory=memory)
+                SAME_SURFACE * triangle_scale, TOUCH * triangle_scale, margin, slope, memory=memory, order=order)
             # Two triangles of one face cannot be split apart (a face's corners hold one UV per layer): a
             # polygon folded over itself (a Boolean's n-gon, say) stays as it is rather than be split forever.
             pairs = pairs[mesh.triangle_face[pairs[:, 0]] != mesh.triangle_face[pairs[:, 1]]]

@@ -6,14 +6,13 @@ A chart is injective when no two of its triangles cover the same 2D point
 are not wildly different in size, never O(n²).
 """
 
-from typing import NamedTuple
-
 import numpy as np
 
 from ..arrays.geometry2d import (barycentric_2d, corner_max, corner_min, line_crossing, segment_distance, separated,
                                  triangle_angles)
 from ..arrays.graph import group_starts, index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
 from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
+from .sides import chart_sides, mesh_order
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b, closed=False):
@@ -244,7 +243,7 @@ class FoldMemory:
 
 
 def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tolerance, touch, margin=0.0, slope=None,
-                   memory=None):
+                   memory=None, order=None):
     """Triangle pairs that keep a chart from being injective, found from its boundary.
 
     Every triangle of a chart faces the chart's axis, so the projection is an
@@ -283,6 +282,9 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
         conflicting ones): boundary sides already paired up are not paired
         again, and overwound fans and overlapping wedges are looked for only
         around the vertices where the first round found them.
+    order : MeshOrder, optional
+        :func:`.sides.mesh_order` of ``welded_triangles``: a caller that checks
+        one mesh several times sorts it once (sorted here if not given).
 
     Returns
     -------
@@ -295,49 +297,14 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     slope = np.zeros(len(uv)) if slope is None else slope
     depth_tolerance = np.broadcast_to(np.asarray(depth_tolerance, dtype=np.float64), (len(uv),))
     touch = np.broadcast_to(np.asarray(touch, dtype=np.float64), (len(uv),))
-    sides = chart_sides(group, welded_triangles, live)
+    order = mesh_order(welded_triangles) if order is None else order
+    sides = chart_sides(group, welded_triangles, live, order)
     later = memory is not None and memory.rounds > 0         # a round after the first, with what it found
     found = [_boundary_conflicts(uv, depth, group, triangle_face, sides, depth_tolerance, touch, margin, slope,
                                  memory, later)]
     found += _fan_conflicts(uv, depth, group, welded_triangles, live, sides, depth_tolerance, memory, later)
     found.append(_shared_side_conflicts(uv, depth, triangle_face, sides, depth_tolerance))
     return unique_pairs(np.concatenate(found))
-
-
-class ChartSides(NamedTuple):
-    """Every side of every chart triangle, sorted so each chart's uses of one edge are a run.
-
-    ``tri``, ``corner`` (s,) int: the triangle and its corner the side starts at; ``low``, ``high`` (s,) int: its
-    welded ends; ``forward`` (s,) bool: it runs from ``low`` to ``high``; ``starts`` (r + 1,) int: where each
-    run (one edge of one chart) starts; ``uses`` (r,) int: its length; ``boundary`` (b,) int: the sides used
-    once (the charts' boundaries)."""
-
-    tri: np.ndarray
-    corner: np.ndarray
-    low: np.ndarray
-    high: np.ndarray
-    forward: np.ndarray
-    starts: np.ndarray
-    uses: np.ndarray
-    boundary: np.ndarray
-
-
-def chart_sides(group, welded_triangles, live):
-    """:class:`ChartSides` of the triangles ``live`` (``group`` (t,) their chart); zero-length sides left out."""
-    tri = np.repeat(live, 3)
-    corner = np.tile(np.arange(3), len(live))
-    v0 = welded_triangles[tri, corner]
-    v1 = welded_triangles[tri, (corner + 1) % 3]
-    low, high = np.minimum(v0, v1), np.maximum(v0, v1)
-    real = low != high
-    tri, corner, low, high, forward = tri[real], corner[real], low[real], high[real], (v0 < v1)[real]
-    order = sort_order(group[tri], low, high)
-    tri, corner, low, high, forward = tri[order], corner[order], low[order], high[order], forward[order]
-    change = np.ones(len(tri), dtype=bool)
-    change[1:] = (low[1:] != low[:-1]) | (high[1:] != high[:-1]) | (group[tri[1:]] != group[tri[:-1]])
-    starts = np.concatenate((np.flatnonzero(change), [len(tri)]))
-    uses = np.diff(starts)
-    return ChartSides(tri, corner, low, high, forward, starts, uses, starts[:-1][uses == 1])
 
 
 def _boundary_conflicts(uv, depth, group, triangle_face, sides, depth_tolerance, touch, margin, slope, memory,
