@@ -10,6 +10,7 @@ Prints one JSON line with what it found; exits non-zero on failure.
 
 import json
 import os
+import shutil
 import sys
 import tempfile
 
@@ -51,6 +52,10 @@ def main(zip_path):
 if __name__ == "__main__":
     arguments = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]    # Blender or Python
     main(os.path.abspath(arguments[0]))
-    # bpy 4.2's module crashes in interpreter teardown after a PropertyGroup was registered
+    # bpy 4.2's module crashes in interpreter teardown after a PropertyGroup was registered: leave without it,
+    # and without what it would remove (Blender's session folder) or no one would (the user resources)
     sys.stdout.flush()
+    if os.path.basename(bpy.app.tempdir.rstrip("/\\")).startswith("blender_"):      # never the base folder itself
+        shutil.rmtree(bpy.app.tempdir, ignore_errors=True)
+    shutil.rmtree(os.environ["BLENDER_USER_RESOURCES"], ignore_errors=True)
     os._exit(0)

@@ -9,7 +9,6 @@ to 1 (no occlusion), for the render to compare against.  Writes the grey values 
 
 import os
 import sys
-import tempfile
 
 import bpy
 import numpy as np
@@ -43,7 +42,7 @@ def render(path):
     scene.render.resolution_x = scene.render.resolution_y = SIZE
     scene.render.resolution_percentage = 100
     scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.filepath = os.path.join(tempfile.mkdtemp(), "render.exr")
+    scene.render.filepath = os.path.join(bpy.app.tempdir, "render.exr")
     bpy.ops.render.render(write_still=True)
     image = bpy.data.images.load(scene.render.filepath)
     pixels = np.empty(len(image.pixels), dtype=np.float32)

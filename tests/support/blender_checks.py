@@ -127,7 +127,6 @@ def render_emission(ob, size=48, engine="CYCLES"):
     written as OpenEXR so nothing is tone-mapped or quantised.
     """
     import os
-    import tempfile
 
     import bpy
     from package import seamless_ao
@@ -153,7 +152,7 @@ def render_emission(ob, size=48, engine="CYCLES"):
     scene.world = bpy.data.worlds.new("Black")
     scene.world.color = (0, 0, 0)
     seamless_ao.set_preview([ob], True)
-    path = os.path.join(tempfile.mkdtemp(), "render.exr")
+    path = os.path.join(bpy.app.tempdir, "render.exr")
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)

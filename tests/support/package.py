@@ -11,14 +11,22 @@ Importing this module first points Blender's user resources at a temporary
 folder, so no test or script touches the user's preferences or extensions.
 """
 
+import atexit
 import importlib.util
 import os
 import pathlib
+import shutil
 import subprocess
 import sys
 import tempfile
 
-os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="seamless_ao_user_"))
+#: This process's user resources folder, made here unless a parent process made one (the processes a test
+#: starts inherit the variable and use the parent's); removed when this process ends.
+OWN_USER_RESOURCES = None
+if "BLENDER_USER_RESOURCES" not in os.environ:
+    OWN_USER_RESOURCES = tempfile.mkdtemp(prefix="seamless_ao_user_")
+    os.environ["BLENDER_USER_RESOURCES"] = OWN_USER_RESOURCES
+    atexit.register(shutil.rmtree, OWN_USER_RESOURCES, ignore_errors=True)
 
 import bpy  # noqa: E402  (must come after the environment is set)
 
@@ -69,10 +77,22 @@ def script_arguments():
     return sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
 
 
+def remove_temporary_folders():
+    """Remove what this process leaves in the temporary folder: its user resources folder, if it made
+    it, and Blender's session folder (``bpy.app.tempdir``, ``blender_*``), which Blender removes only
+    when it shuts down itself (:func:`hard_exit` skips that)."""
+    session = bpy.app.tempdir.rstrip("/\\")
+    if os.path.basename(session).startswith("blender_"):
+        shutil.rmtree(session, ignore_errors=True)
+    if OWN_USER_RESOURCES is not None:
+        shutil.rmtree(OWN_USER_RESOURCES, ignore_errors=True)
+
+
 def hard_exit(status):
-    """``os._exit`` after flushing.  The bpy 4.2 module crashes while the interpreter shuts down once
-    any PropertyGroup was registered (later wheels and Blender itself are fine): scripts and the test
-    session leave without that teardown."""
+    """``os._exit`` after flushing and :func:`remove_temporary_folders`.  The bpy 4.2 module crashes while
+    the interpreter shuts down once any PropertyGroup was registered (later wheels and Blender itself are
+    fine): scripts and the test session leave without that teardown."""
     sys.stdout.flush()
     sys.stderr.flush()
+    remove_temporary_folders()
     os._exit(status)
