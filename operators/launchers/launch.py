@@ -17,13 +17,15 @@ Cycles device preference of the process that started this one is taken
 (:mod:`..adapters.cycles_device`).
 
 The process ends with ``os._exit``: the bpy 4.2 *module* crashes in
-interpreter teardown once a PropertyGroup was registered.
+interpreter teardown once a PropertyGroup was registered.  Blender's own
+session folder, which its teardown would remove, is removed first.
 """
 
 import importlib
 import importlib.util
 import os
 import pathlib
+import shutil
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -64,8 +66,19 @@ def main(argv):
     return importlib.import_module(NAME + "." + ENTRY_POINTS[argv[0]]).main(argv[1:])
 
 
+def remove_session_folder():
+    """Remove Blender's session folder (``bpy.app.tempdir``, a ``blender_*`` folder in the temporary folder):
+    Blender removes it when it shuts down itself, which ``os._exit`` skips, so every bake of a window or a
+    batch would leave one behind.  Never the base folder, where Blender falls back to it."""
+    bpy = sys.modules.get("bpy")
+    session = bpy.app.tempdir.rstrip("/\\") if bpy is not None else ""
+    if os.path.basename(session).startswith("blender_"):
+        shutil.rmtree(session, ignore_errors=True)
+
+
 if __name__ == "__main__":
     status = main(arguments())
     sys.stdout.flush()
     sys.stderr.flush()
+    remove_session_folder()
     os._exit(status)

@@ -37,6 +37,15 @@ LAUNCHER = ROOT / "operators" / "launchers" / "launch.py"
 NAME = "seamless_ao"
 
 
+def launcher():
+    """The product's own loader (operators/launchers/launch.py), itself loaded by path: it is not in a package."""
+    if "seamless_ao_launch" not in sys.modules:
+        spec = importlib.util.spec_from_file_location("seamless_ao_launch", LAUNCHER)
+        sys.modules["seamless_ao_launch"] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules["seamless_ao_launch"])
+    return sys.modules["seamless_ao_launch"]
+
+
 def load_package(name=NAME):
     """The package as ``name``: the installed extension if Blender has it enabled, else the repository root."""
     if name in sys.modules:
@@ -46,11 +55,7 @@ def load_package(name=NAME):
         for module_name in [n for n in sys.modules if n == installed or n.startswith(installed + ".")]:
             sys.modules[name + module_name[len(installed):]] = sys.modules[module_name]
         return sys.modules[name]
-    # the product's own loader (operators/launchers/launch.py), itself loaded by path: it is not in a package yet
-    spec = importlib.util.spec_from_file_location("seamless_ao_launch", LAUNCHER)
-    launch = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(launch)
-    return launch.load_package(name)
+    return launcher().load_package(name)
 
 
 seamless_ao = load_package()
@@ -81,9 +86,7 @@ def remove_temporary_folders():
     """Remove what this process leaves in the temporary folder: its user resources folder, if it made
     it, and Blender's session folder (``bpy.app.tempdir``, ``blender_*``), which Blender removes only
     when it shuts down itself (:func:`hard_exit` skips that)."""
-    session = bpy.app.tempdir.rstrip("/\\")
-    if os.path.basename(session).startswith("blender_"):
-        shutil.rmtree(session, ignore_errors=True)
+    launcher().remove_session_folder()
     if OWN_USER_RESOURCES is not None:
         shutil.rmtree(OWN_USER_RESOURCES, ignore_errors=True)
 
