@@ -12,7 +12,7 @@ from ..arrays.geometry2d import (barycentric_2d, corner_max, corner_min, line_cr
                                  triangle_angles)
 from ..arrays.graph import group_starts, index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
 from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
-from .sides import chart_sides, mesh_order
+from .sides import chart_sides
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b, closed=False):
@@ -297,7 +297,6 @@ def fold_conflicts(uv, depth, group, welded_triangles, triangle_face, depth_tole
     slope = np.zeros(len(uv)) if slope is None else slope
     depth_tolerance = np.broadcast_to(np.asarray(depth_tolerance, dtype=np.float64), (len(uv),))
     touch = np.broadcast_to(np.asarray(touch, dtype=np.float64), (len(uv),))
-    order = mesh_order(welded_triangles) if order is None else order
     sides = chart_sides(group, welded_triangles, live, order)
     later = memory is not None and memory.rounds > 0         # a round after the first, with what it found
     found = [_boundary_conflicts(uv, depth, group, triangle_face, sides, depth_tolerance, touch, margin, slope,

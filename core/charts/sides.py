@@ -73,15 +73,14 @@ def chart_sides(group, welded_triangles, live, order=None):
     order = mesh_order(welded_triangles) if order is None else order
     in_chart = np.zeros(len(group), dtype=bool)
     in_chart[live] = True
-    kept = in_chart[order.tri]
-    tri, edge = order.tri[kept], order.edge[kept]
+    picked = np.flatnonzero(in_chart[order.tri])
+    tri, edge = order.tri[picked], order.edge[picked]
     chart = group[tri]
     together = sort_order(edge, chart)             # only an edge of 3+ sides can have its charts apart
-    tri, edge, chart = tri[together], edge[together], chart[together]
+    picked, tri, edge, chart = picked[together], tri[together], edge[together], chart[together]
     change = np.ones(len(tri), dtype=bool)
     change[1:] = (edge[1:] != edge[:-1]) | (chart[1:] != chart[:-1])
     starts = np.concatenate((np.flatnonzero(change), [len(tri)]))
     uses = np.diff(starts)
-    return ChartSides(tri, order.corner[kept][together], order.low[kept][together],
-                      order.high[kept][together], order.forward[kept][together], starts, uses,
-                      starts[:-1][uses == 1])
+    return ChartSides(tri, order.corner[picked], order.low[picked], order.high[picked], order.forward[picked],
+                      starts, uses, starts[:-1][uses == 1])
