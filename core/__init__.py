@@ -30,6 +30,7 @@ module                              what it holds
 :mod:`.charts.overlap`              fold conflicts of a chart, found from its boundary
 :mod:`.charts.candidates`           which shapes of a chart to compare (a uniform grid)
 :mod:`.charts.sides`                a chart's sides grouped by edge (one sort per mesh)
+:mod:`.charts.steep`                which boundary sides to compare where a boundary runs steep (cells with bounds)
 :mod:`.charts.splitting`            how a folding chart is cut
 **atlas** (``core/atlas/``)
 :mod:`.atlas.chart_atlas`           chart projection, density, the packed atlas and its UVs

@@ -82,7 +82,7 @@ def box_cells(low, high, origin, cell):
     return first, last, entry, first[entry, 0] + local % span[entry, 0], first[entry, 1] + local // span[entry, 0]
 
 
-def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0):
+def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0, most=None):
     """Pairs of shapes of the same group whose 2D boxes come within ``margin``.
 
     Parameters
@@ -105,6 +105,8 @@ def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0):
         few pairs far apart in depth among the many neighbours along one
         boundary.
     spread : float
+    most : int, optional
+        With ``depth``: None instead of the pairs if the cells would have more than this many pairs to test.
 
     Returns
     -------
@@ -140,8 +142,10 @@ def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0):
     if depth is None:
         here, there = pairs_within_groups(starts).T.copy()
     else:
-        entry, cell_x, cell_y, here, there = _pairs_apart_in_depth(
-            entry, cell_x, cell_y, starts, depth[live], spread)
+        paired = _pairs_apart_in_depth(entry, cell_x, cell_y, starts, depth[live], spread, most)
+        if paired is None:
+            return None
+        entry, cell_x, cell_y, here, there = paired
     # Each pair once, from the one cell both boxes hold whose corner is the larger of their low corners
     # (no sort to drop repeats), and only where the boxes themselves meet.  Each box's numbers in the
     # entries' order first: ``here`` runs in order and ``there`` stays in its cell, so reads stay close.
@@ -170,7 +174,7 @@ def candidate_pairs(uv, group, margin=0.0, query=None, depth=None, spread=0.0):
     return np.stack([i[order], j[order]], axis=1)
 
 
-def _pairs_apart_in_depth(entry, cell_x, cell_y, starts, depth, spread):
+def _pairs_apart_in_depth(entry, cell_x, cell_y, starts, depth, spread, most=None):
     """The pairs of each cell's entries whose depth spread may exceed ``spread``, found by depth.
 
     A shape's depths span ``mid +- half``; two shapes' spread is
@@ -188,6 +192,8 @@ def _pairs_apart_in_depth(entry, cell_x, cell_y, starts, depth, spread):
     -------
     entry, cell_x, cell_y : (k,) int64, reordered by depth within each cell
     here, there : (p,) int64, positions of the pairs' entries (either may be first)
+
+    None instead if there would be more than ``most`` pairs to test.
     """
     if not len(entry):
         return entry, cell_x, cell_y, entry, entry
@@ -209,6 +215,8 @@ def _pairs_apart_in_depth(entry, cell_x, cell_y, starts, depth, spread):
     position = np.arange(len(entry))
     end = starts[1:][cell]
     first = np.clip(first, position + 1, end)
+    if most is not None and int((end - first).sum()) > most:
+        return None
     here = np.repeat(position, end - first)
     there = np.repeat(first, end - first) + index_in_runs(end - first)
     # the depths in the cells' order: ``here`` runs in order and ``there`` stays within its cell

@@ -13,6 +13,7 @@ from ..arrays.geometry2d import (barycentric_2d, corner_max, corner_min, line_cr
 from ..arrays.graph import group_starts, index_in_runs, pairs_within_groups, sort_order, unique_pairs, unique_rows
 from .candidates import candidate_pairs, may_conflict, without_flat_groups, without_quiet_sides
 from .sides import chart_sides
+from .steep import steep_pairs
 
 
 def overlap_depth_gap(uv_a, depth_a, uv_b, depth_b, closed=False):
@@ -332,7 +333,7 @@ def _boundary_conflicts(uv, depth, group, triangle_face, sides, depth_tolerance,
         loud_group = without_quiet_sides(seg, seg_depth, seg_group, margin)
         pairs = unique_rows(np.concatenate([
             candidate_pairs(seg, seg_group, 2.0 * touch_most, query=fresh),
-            candidate_pairs(seg, loud_group, margin, query=fresh, depth=seg_depth, spread=margin)]))
+            steep_pairs(seg, seg_depth, loud_group, slope[b_tri], margin, query=fresh)]))
     else:
         pairs = candidate_pairs(seg, seg_group, max(touch_most, margin), query=fresh)
     if len(pairs):
