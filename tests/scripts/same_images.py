@@ -209,6 +209,16 @@ def compare(revision):
     return 0 if same else 1
 
 
+def remove_session_folder():
+    """Blender's session folder of this process, which ``os._exit`` would leave behind: removed by this tree's
+    own launcher (operators/launchers/launch.py, loaded by path; the trees compared are loaded as packages)."""
+    spec = importlib.util.spec_from_file_location("seamless_ao_launch", HERE.parents[2] / "operators" / "launchers"
+                                                  / "launch.py")
+    launch = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(launch)
+    launch.remove_session_folder()
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--against", metavar="REV", help="compare this tree with commit REV")
@@ -221,6 +231,7 @@ def main():
     else:
         status = compare(args.against or "HEAD")
     sys.stdout.flush()
+    remove_session_folder()
     os._exit(status)           # the bpy 4.2 module crashes in teardown once a PropertyGroup was registered
 
 
