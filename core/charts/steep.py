@@ -21,10 +21,11 @@ STEEP_CELLS_PER_MARGIN = 6
 #: :func:`.candidates.candidate_pairs`.
 STEEP_MOST_CELLS = 64
 #: :func:`steep_pairs` pairs by depth alone (:func:`.candidates.candidate_pairs`) while that tests at most
-#: this many pairs a segment.  Of the calls in bakes of the 70k and the million-triangle scan at 256², those
-#: up to 64 a segment were as fast or faster by depth (all of the 70k scan's, several times); the one above
-#: (256 a segment, the million-triangle scan's Z charts), timed alone, took 0.48 s by depth, 0.29 s by the grid.
-DEPTH_PAIRS_PER_SEGMENT = 64
+#: this many pairs a segment.  Of the calls in bakes of the 70k scan at 256² and the million-triangle scan at
+#: 256² and 512², those up to 128 a segment were as fast or faster by depth (the largest at 512², 8 rays:
+#: 0.30 s by depth, 0.73 s by the grid); the one above (the million-triangle scan's Z charts at 256², up to
+#: 256 a segment), timed alone, took 0.48 s by depth and 0.29 s by the grid.
+DEPTH_PAIRS_PER_SEGMENT = 128
 
 
 def steep_pairs(seg, seg_depth, seg_group, seg_slope, margin, query=None):
