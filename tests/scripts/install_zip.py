@@ -8,7 +8,6 @@ Run as a separate process (it registers the add-on under its real
 Prints one JSON line with what it found; exits non-zero on failure.
 """
 
-import importlib.util
 import json
 import os
 import shutil
@@ -56,11 +55,8 @@ if __name__ == "__main__":
     # bpy 4.2's module crashes in interpreter teardown after a PropertyGroup was registered: leave without it,
     # and without what it would remove (Blender's session folder) or no one would (the user resources)
     sys.stdout.flush()
-    launch_file = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "operators", "launchers",
-                               "launch.py")
-    spec = importlib.util.spec_from_file_location("seamless_ao_launch", launch_file)     # a plain file, no package
-    launch = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(launch)
-    launch.remove_session_folder()
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+    from launch_file import launcher
+    launcher().remove_session_folder()
     shutil.rmtree(os.environ["BLENDER_USER_RESOURCES"], ignore_errors=True)
     os._exit(0)

@@ -211,12 +211,10 @@ def compare(revision):
 
 def remove_session_folder():
     """Blender's session folder of this process, which ``os._exit`` would leave behind: removed by this tree's
-    own launcher (operators/launchers/launch.py, loaded by path; the trees compared are loaded as packages)."""
-    spec = importlib.util.spec_from_file_location("seamless_ao_launch", HERE.parents[2] / "operators" / "launchers"
-                                                  / "launch.py")
-    launch = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(launch)
-    launch.remove_session_folder()
+    own launcher (:mod:`launch_file`; the trees compared are loaded as packages)."""
+    sys.path.insert(0, str(SUPPORT))
+    from launch_file import launcher
+    launcher().remove_session_folder()
 
 
 def main():

@@ -12,7 +12,6 @@ folder, so no test or script touches the user's preferences or extensions.
 """
 
 import atexit
-import importlib.util
 import os
 import pathlib
 import shutil
@@ -30,20 +29,11 @@ if "BLENDER_USER_RESOURCES" not in os.environ:
 
 import bpy  # noqa: E402  (must come after the environment is set)
 
+from launch_file import LAUNCHER, launcher  # noqa: E402
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "tests" / "scripts"
-#: The product's own launcher: the ``seamless_ao`` command line, the demo and batch workers without Blender.
-LAUNCHER = ROOT / "operators" / "launchers" / "launch.py"
 NAME = "seamless_ao"
-
-
-def launcher():
-    """The product's own loader (operators/launchers/launch.py), itself loaded by path: it is not in a package."""
-    if "seamless_ao_launch" not in sys.modules:
-        spec = importlib.util.spec_from_file_location("seamless_ao_launch", LAUNCHER)
-        sys.modules["seamless_ao_launch"] = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(sys.modules["seamless_ao_launch"])
-    return sys.modules["seamless_ao_launch"]
 
 
 def load_package(name=NAME):
