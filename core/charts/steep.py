@@ -13,18 +13,16 @@ from ..arrays.geometry2d import corner_max, corner_min
 from ..arrays.graph import group_starts, index_in_runs, unique_rows
 from .candidates import candidate_pairs
 
-#: Grid cells per margin of :func:`steep_pairs`.  In bakes of the million-triangle scan at 256², 1 ray, the
-#: boundary pairing (:func:`.overlap.fold_conflicts`' first step) took 1.3 to 1.4 s at 6, against 1.8 to 1.9 s
-#: by depth alone; at 4 it gained less than the noise.
+#: Grid cells per margin of :func:`steep_pairs`: finer cells bound the gap of the pairs they list more tightly,
+#: coarser ones leave fewer pairs of cells to test.
 STEEP_CELLS_PER_MARGIN = 6
 #: :func:`steep_pairs` lists a segment in at most this many cells; longer ones go to
 #: :func:`.candidates.candidate_pairs`.
 STEEP_MOST_CELLS = 64
 #: :func:`steep_pairs` pairs by depth alone (:func:`.candidates.candidate_pairs`) while that tests at most
-#: this many pairs a segment.  Of the calls in bakes of the 70k scan at 256² and the million-triangle scan at
-#: 256² and 512², those up to 128 a segment were as fast or faster by depth (the largest at 512², 8 rays:
-#: 0.30 s by depth, 0.73 s by the grid); the one above (the million-triangle scan's Z charts at 256², up to
-#: 256 a segment), timed alone, took 0.48 s by depth and 0.29 s by the grid.
+#: this many pairs a segment.  Below it the grid's pairs of cells cost more than the pairs of segments they
+#: save (every call of the 70k scan's bake, and of the million-triangle scan's at 512²); above it (the
+#: million-triangle scan's Z charts at 256²) the grid was the faster.
 DEPTH_PAIRS_PER_SEGMENT = 128
 
 
