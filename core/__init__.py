@@ -25,6 +25,7 @@ module                              what it holds
 :mod:`.mesh.adjacency`              faces that share an edge (sorted edge keys)
 :mod:`.mesh.extent`                 a mesh's size, a stray spike left out
 :mod:`.mesh.sealed`                 triangles of closed pieces (what "inside" means)
+:mod:`.mesh.proxy`                  vertices clustered in texel-wide cubes, and their triangles (not yet used by the bake)
 **charts** (``core/charts/``)
 :mod:`.charts.clustering`           overlapping signed-axis charts, made injective
 :mod:`.charts.overlap`              fold conflicts of a chart, found from its boundary
