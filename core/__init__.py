@@ -38,6 +38,7 @@ module                              what it holds
 :mod:`.atlas.long_charts`           charts too long for the image, packed at a density of their own
 :mod:`.atlas.packing`               where each chart goes at one density (xatlas)
 :mod:`.atlas.cover`                 coarse covers of charts, for the packer
+:mod:`.atlas.settled_atlas`         an xatlas atlas let go of once its threads sleep (its destructor can hang)
 :mod:`.atlas.shelf`                 shelf packing of the small charts
 :mod:`.atlas.raster`                texels and the surface point each samples
 :mod:`.atlas.viewport_uv`           AO UVs for a surface other than the one baked

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .cover import cover_at_density
+from .settled_atlas import settled_atlas
 from .shelf import shelf_pack
 
 #: A chart less than this many texels across is stored as one texel.
@@ -249,21 +250,22 @@ class Packer:
         box_ids = count + np.arange(len(box_w))
         face_chart = np.concatenate([face_chart, box_ids, box_ids])
 
-        atlas = xatlas.Atlas()
-        atlas.add_uv_mesh(vertices.astype(np.float32), indices.astype(np.uint32),
-                          face_chart[:, None].astype(np.uint32))
-        options = xatlas.PackOptions()
-        options.padding = self.padding
-        options.bilinear = True
-        options.rotate_charts = False
-        options.rotate_charts_to_axis = False
-        options.resolution = int(resolution)
-        options.texels_per_unit = 1.0
-        atlas.generate(xatlas.ChartOptions(), options)
-        if atlas.atlas_count != 1:
-            return None
-        _, out_indices, out_uv = atlas[0]
-        packed = out_uv.astype(np.float64)[out_indices.astype(np.int64)] * [atlas.width, atlas.height]
+        with settled_atlas() as atlas:         # its destructor could hang were it let go of too soon
+            atlas.add_uv_mesh(vertices.astype(np.float32), indices.astype(np.uint32),
+                              face_chart[:, None].astype(np.uint32))
+            options = xatlas.PackOptions()
+            options.padding = self.padding
+            options.bilinear = True
+            options.rotate_charts = False
+            options.rotate_charts_to_axis = False
+            options.resolution = int(resolution)
+            options.texels_per_unit = 1.0
+            atlas.generate(xatlas.ChartOptions(), options)
+            if atlas.atlas_count != 1:
+                return None
+            _, out_indices, out_uv = atlas[0]
+            width, height = int(atlas.width), int(atlas.height)
+        packed = out_uv.astype(np.float64)[out_indices.astype(np.int64)] * [width, height]
         shift = packed - vertices[indices]                                          # (f, 3, 2)
         # one translation per cover or box (xatlas neither rotates nor scales here: check)
         groups = count + len(box_w)
@@ -271,9 +273,8 @@ class Packer:
         offset = np.stack([np.bincount(np.repeat(face_chart, 3), shift[:, :, k].ravel(), groups)
                            for k in (0, 1)], axis=1) / np.maximum(weight, 1)[:, None]
         residual = np.abs(shift - offset[face_chart][:, None]).max() if len(shift) else 0.0
-        if residual > AFFINE_TOLERANCE + 1e-6 * max(atlas.width, atlas.height):
+        if residual > AFFINE_TOLERANCE + 1e-6 * max(width, height):
             return None                     # xatlas shrank a chart that does not fit across: too dense
-        width, height = int(atlas.width), int(atlas.height)
         if resolution:
             width = height = int(resolution)
         else:
