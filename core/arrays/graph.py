@@ -151,6 +151,21 @@ def radix_order(key, span):
     return order.astype(np.int64)
 
 
+def row_labels(*keys):
+    """(n,) int64: one label per distinct row of ``keys`` ((n,) non-negative ints each, most significant first),
+    numbered ``0 ..`` in the rows' sorted order; rows equal in every key share a label."""
+    keys = [np.asarray(key, dtype=np.int64) for key in keys]
+    order = sort_order(*keys)
+    new = np.zeros(len(order), dtype=bool)
+    new[:1] = True
+    for key in keys:
+        ordered = key[order]
+        new[1:] |= ordered[1:] != ordered[:-1]
+    labels = np.empty(len(order), dtype=np.int64)
+    labels[order] = np.cumsum(new) - 1
+    return labels
+
+
 def group_starts(sorted_keys):
     """Start index of each run of equal values in a sorted 1D array, plus the end."""
     sorted_keys = np.asarray(sorted_keys)

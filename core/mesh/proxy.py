@@ -18,7 +18,7 @@ no fold at texel scale), is the next step, not this module's.
 
 import numpy as np
 
-from ..arrays.graph import sort_order
+from ..arrays.graph import row_labels
 
 #: Cube indices are clipped to this many cubes from the mesh's lowest corner: a stray vertex 10^18 out at a
 #: cell of 10^-3 would otherwise overflow int64 (far vertices then share the last cube; they are strays).
@@ -54,11 +54,7 @@ def grid_clusters(positions, cell, groups=None):
     keys = [cube[:, 0], cube[:, 1], cube[:, 2]]
     if groups is not None:
         keys.insert(0, np.asarray(groups, dtype=np.int64))
-    order = sort_order(*keys, stable=False)
-    new = np.ones(len(order), dtype=bool)
-    new[1:] = np.any([key[order][1:] != key[order][:-1] for key in keys], axis=0)
-    cluster_of_vertex = np.empty(len(order), dtype=np.int64)
-    cluster_of_vertex[order] = np.cumsum(new) - 1
+    cluster_of_vertex = row_labels(*keys)
     count = int(cluster_of_vertex.max()) + 1
     # a non-finite vertex sits in the lowest corner's cube and adds nothing to its cluster's mean
     finite_count = np.bincount(cluster_of_vertex, weights=finite.astype(np.float64), minlength=count)
@@ -95,10 +91,8 @@ def proxy_triangles(cluster_of_vertex, triangles):
     # a cyclic turn keeps the winding: (a, b, c), (b, c, a) and (c, a, b) are one triangle
     first = np.argmin(kept, axis=1)
     kept = np.take_along_axis(kept, (first[:, None] + np.arange(3)) % 3, axis=1)
-    order = sort_order(kept[:, 0], kept[:, 1], kept[:, 2], stable=False)
-    ordered = kept[order]
-    new = np.ones(len(ordered), dtype=bool)
-    new[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
-    number = np.cumsum(new) - 1
-    proxy_of_triangle[np.flatnonzero(three)[order]] = number
-    return ordered[new], proxy_of_triangle
+    number = row_labels(kept[:, 0], kept[:, 1], kept[:, 2])
+    proxy = np.empty((int(number.max()) + 1, 3), dtype=np.int64)
+    proxy[number] = kept
+    proxy_of_triangle[three] = number
+    return proxy, proxy_of_triangle

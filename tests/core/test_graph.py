@@ -81,3 +81,15 @@ def test_radix_order_is_a_stable_argsort():
         key = rng.integers(0, 2**bits, 200000)
         key[::3] = key[0]                                # ties keep their input order
         assert np.array_equal(graph.radix_order(key, 2**bits), np.argsort(key, kind="stable"))
+
+
+@pytest.mark.parametrize("sorted_last", [False, True])
+def test_row_labels_number_the_distinct_rows_in_sorted_order(sorted_last):
+    rng = np.random.default_rng(3)
+    rows = rng.integers(0, 10, (500, 3))           # some rows repeat, most neighbours differ in one key only
+    if sorted_last:                         # a least significant key already in order: sort_order leaves it out
+        rows[:, 2] = np.sort(rows[:, 2])
+    labels = graph.row_labels(rows[:, 0], rows[:, 1], rows[:, 2])
+    distinct = sorted({tuple(row) for row in rows.tolist()})
+    assert labels.tolist() == [distinct.index(tuple(row)) for row in rows.tolist()]
+    assert graph.row_labels(np.zeros(0, dtype=np.int64)).shape == (0,)

@@ -12,6 +12,7 @@ the busy processes, reach its sleep first).
 """
 
 import argparse
+import contextlib
 import faulthandler
 import os
 import pathlib
@@ -33,12 +34,7 @@ HOG = "import os, sys\nparent = int(sys.argv[1])\nwhile os.getppid() == parent:\
 def pack_once(settled, vertices, triangles, chart):
     options = xatlas.PackOptions()
     options.padding, options.resolution, options.texels_per_unit = 2, 64, 1.0
-    if settled:
-        with settled_atlas() as atlas:
-            atlas.add_uv_mesh(vertices, triangles, chart)
-            atlas.generate(xatlas.ChartOptions(), options)
-    else:
-        atlas = xatlas.Atlas()
+    with settled_atlas() if settled else contextlib.nullcontext(xatlas.Atlas()) as atlas:
         atlas.add_uv_mesh(vertices, triangles, chart)
         atlas.generate(xatlas.ChartOptions(), options)
     del atlas
