@@ -16,6 +16,8 @@ import sys
 import time
 import tracemalloc
 
+import numpy as np
+
 sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parent.parent / "support"))
 
 import package  # noqa: E402  (imports bpy and the add-on as ``seamless_ao``)
@@ -155,3 +157,17 @@ def suzanne_with_reference(points=2000, seed=5, rays=4096):
     triangle, bary, normals = surface_samples(mesh, points, seed=seed)
     reference = reference_ao(ob, mesh, triangle, bary, normals, rays=rays, settings=BakeSettings())
     return ob, loops, triangle, bary, normals, reference
+
+
+def cached_surface_samples(mesh, count, seed, path):
+    """:func:`accuracy.surface_samples`, kept in ``path`` (.npz) once chosen: choosing them tests each candidate
+    against every triangle (minutes on a million triangles).  ``path`` must name the mesh and the sampling's
+    code, as report.py's ``mesh_key`` does; the normals come from the mesh each time, as there."""
+    if not path.exists():
+        triangle, bary, normals = surface_samples(mesh, count, seed=seed)
+        np.savez(path, triangle=triangle, bary=bary)
+        return triangle, bary, normals
+    with np.load(path) as saved:
+        triangle, bary = saved["triangle"], saved["bary"]
+    normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
+    return triangle, bary, normals / np.linalg.norm(normals, axis=1, keepdims=True)

@@ -46,13 +46,13 @@ import time
 
 import numpy as np
 
-from common import PAGES, finish, markdown_table, say, use_gpu
+from common import PAGES, cached_surface_samples, finish, markdown_table, say, use_gpu
 from quality_promises import (HEADERS as PROMISE_HEADERS, PRESET_METHOD, cheapest_reaching, promise_rows,
                               promise_sentence)
 
 import bpy
 
-from accuracy import errors, reference_ao, shown_seamless, shown_single_uv, surface_samples, world_map
+from accuracy import errors, reference_ao, shown_seamless, shown_single_uv, world_map
 from blender_scenes import cornell_box, sphere_over_plane, suzanne
 from cycles_baseline import UV_NAME, cycles_ao_bake, half_diagonal
 from seams import point_normals, seam_error, seam_pairs, seam_renders
@@ -151,19 +151,9 @@ def mesh_key(ob, mesh):
 
 
 def reference(ob, mesh, cache):
-    """Reference AO at POINTS random points, both cached in ``cache``: choosing the points tests each candidate
-    against every triangle (minutes on a million triangles), so a cached reference keeps its points too."""
+    """Reference AO at POINTS random points, both cached in ``cache``."""
     stem = "{}-{}".format(ob.name.replace(" ", "_"), mesh_key(ob, mesh))
-    chosen = cache / (stem + "-points.npz")
-    if chosen.exists():
-        with np.load(chosen) as saved:
-            triangle, bary = saved["triangle"], saved["bary"]
-        # surface_samples' normals (accuracy.py is left as it is: its text is part of every reference's key)
-        normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
-        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
-    else:
-        triangle, bary, normals = surface_samples(mesh, POINTS, seed=5)
-        np.savez(chosen, triangle=triangle, bary=bary)
+    triangle, bary, normals = cached_surface_samples(mesh, POINTS, 5, cache / (stem + "-points.npz"))
     path = cache / (stem + ".npy")
     if path.exists():
         return triangle, bary, normals, np.load(path), 0.0
