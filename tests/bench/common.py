@@ -26,6 +26,7 @@ import bpy  # noqa: E402
 from accuracy import reference_ao, surface_samples  # noqa: E402
 from blender_scenes import suzanne  # noqa: E402
 from process_memory import process_peak_mb, resident_mb  # noqa: E402,F401  (the benches' memory figures)
+from seams import point_normals  # noqa: E402
 from seamless_ao.core.settings import BakeSettings  # noqa: E402
 from seamless_ao.operators.adapters.mesh_data import read_triangles  # noqa: E402
 
@@ -169,5 +170,4 @@ def cached_surface_samples(mesh, count, seed, path):
         return triangle, bary, normals
     with np.load(path) as saved:
         triangle, bary = saved["triangle"], saved["bary"]
-    normals = np.einsum("kc,kcd->kd", bary, mesh.corner_normals[triangle])
-    return triangle, bary, normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    return triangle, bary, point_normals(mesh, triangle, bary)
