@@ -9,7 +9,9 @@ crease pass).  Each is evaluated as the shader shows it against the plain
 reference at the report's 2000 visible points (``report.py``, cached in
 ``out/bench/cache``).  Then a box pushed into another (``meshes.pierced_box``,
 the hard-case test's mesh) at visible points within a texel of the
-intersection.  Accuracy only: one bake per row (bakes are deterministic).
+intersection.  Accuracy only: one bake per row (a bake repeats itself but for
+the Cycles caster's batches, which follow the machine's load:
+docs/how-it-works.md).
 """
 
 import argparse

@@ -98,7 +98,11 @@ def test_a_spike_to_a_stray_vertex_leaves_the_rest_baked_as_without_it(addon, fr
 
 def test_custom_split_normals_are_the_normals_baked_with(addon, fresh_scene):
     """Issue 16, item 2: a smooth-shaded mesh whose custom split normals are its face normals bakes as the
-    same mesh shaded flat (and not as it would shaded smooth)."""
+    same mesh shaded flat (and not as it would shaded smooth).
+
+    Geometry Nodes casts every ray: its rays are the same whatever the machine's load, where the Cycles
+    caster's split of the texels into bakes follows how long each took (docs/engines.md), and the noise of
+    three bakes at 32 rays would then reach the limits below."""
     from blender_scenes import suzanne
     images = {}
     for name, smooth, custom in (("Flat", False, False), ("Custom", True, True), ("Smooth", True, False)):
@@ -109,7 +113,8 @@ def test_custom_split_normals_are_the_normals_baked_with(addon, fresh_scene):
                 for loop in polygon.loop_indices:
                     normals[loop] = tuple(polygon.normal)
             ob.data.normals_split_custom_set(normals)
-        images[name] = image_array(bpy.data.images[seamless_ao.bake([ob], **SETTINGS).image]).copy()
+        report = seamless_ao.bake([ob], **SETTINGS, ray_caster="GEOMETRY_NODES")
+        images[name] = image_array(bpy.data.images[report.image]).copy()
     custom, smooth = np.abs(images["Custom"] - images["Flat"]), np.abs(images["Smooth"] - images["Flat"])
     # custom normals are stored compressed: a ray near the horizon may flip, nothing more
     assert custom.mean() < 5e-4 and np.mean(custom > 0.01) < 0.01, (custom.mean(), np.mean(custom > 0.01))
