@@ -25,9 +25,10 @@ module                              what it holds
 :mod:`.mesh.adjacency`              faces that share an edge (sorted edge keys)
 :mod:`.mesh.extent`                 a mesh's size, a stray spike left out
 :mod:`.mesh.sealed`                 triangles of closed pieces (what "inside" means)
-:mod:`.mesh.proxy`                  vertices clustered in texel-wide cubes, and their triangles (not yet used by the bake)
+:mod:`.mesh.proxy`                  vertices clustered in texel-wide cubes, and their triangles
 **charts** (``core/charts/``)
 :mod:`.charts.clustering`           overlapping signed-axis charts, made injective
+:mod:`.charts.coarse`               the charts of a mesh far finer than its image, made on a texel-scale proxy
 :mod:`.charts.overlap`              fold conflicts of a chart, found from its boundary
 :mod:`.charts.candidates`           which shapes of a chart to compare (a uniform grid)
 :mod:`.charts.sides`                a chart's sides grouped by edge (one sort per mesh)

@@ -12,6 +12,7 @@ import numpy as np
 from .atlas.chart_atlas import Atlas, expected_density, pack_charts
 from .atlas.raster import Texels, rasterise
 from .charts.clustering import Charts, cut_long_charts, make_injective, signed_axis_clusters
+from .charts.coarse import coarse_charts, wants_proxy
 from .errors import SeamlessAOError
 from .mesh.adjacency import face_adjacency
 from .mesh.triangle_mesh import MeshReport, TriangleMesh, require_faces
@@ -69,21 +70,27 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     mesh, offsets = TriangleMesh.concatenate(meshes) if len(meshes) > 1 else (
         meshes[0], np.array([0, len(meshes[0].triangles)]))
     timings = {}
-    start = time.perf_counter()
-    topology = face_adjacency(mesh)
-    charts = signed_axis_clusters(mesh, topology, compare_angle)
-    timings["charts"] = time.perf_counter() - start
-
-    start = time.perf_counter()
-    expected = density if density is not None else expected_density(mesh, charts, image_size)
-    # One injectivity pass with a margin: it splits folds (what cluster_faces
-    # does) and also keeps distant parts of a chart a few texels apart, so
-    # filtering at a chart's edge never mixes in AO from another surface.
-    charts = make_injective(mesh, topology, charts, margin=SEPARATION_TEXELS / expected)
     # no chart longer than a quarter of the image at the expected density (charts are never rotated)
-    longest = (image_size / 4 if density is None else LONGEST_CHART_TEXELS) / expected
-    charts = cut_long_charts(mesh, charts, longest)
-    timings["injectivity"] = time.perf_counter() - start
+    longest_texels = image_size / 4 if density is None else LONGEST_CHART_TEXELS
+    if len(meshes) == 1 and wants_proxy(mesh, compare_angle, image_size if density is None else None, density):
+        # far more triangles than texels: charts made at the scale the image shows (charts/coarse.py)
+        coarse = coarse_charts(mesh, compare_angle, image_size if density is None else None, density,
+                               SEPARATION_TEXELS, longest_texels, timings)
+        charts, topology = coarse.charts, coarse.topology
+    else:
+        start = time.perf_counter()
+        topology = face_adjacency(mesh)
+        charts = signed_axis_clusters(mesh, topology, compare_angle)
+        timings["charts"] = time.perf_counter() - start
+
+        start = time.perf_counter()
+        expected = density if density is not None else expected_density(mesh, charts, image_size)
+        # One injectivity pass with a margin: it splits folds (what cluster_faces
+        # does) and also keeps distant parts of a chart a few texels apart, so
+        # filtering at a chart's edge never mixes in AO from another surface.
+        charts = make_injective(mesh, topology, charts, margin=SEPARATION_TEXELS / expected)
+        charts = cut_long_charts(mesh, charts, longest_texels / expected)
+        timings["injectivity"] = time.perf_counter() - start
     start = time.perf_counter()
     atlas = pack_charts(mesh, topology, charts, padding=padding,
                         image_size=None if density is not None else image_size, density=density)

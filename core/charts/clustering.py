@@ -286,7 +286,7 @@ def triangle_chart_geometry(mesh, charts, axis, corners):
     return group, uv, depth, slope
 
 
-def make_injective(mesh, topology, charts, margin=0.0):
+def make_injective(mesh, topology, charts, margin=0.0, same_place=0.0):
     """Split charts until none of them folds over itself in projection.
 
     Parameters
@@ -298,6 +298,10 @@ def make_injective(mesh, topology, charts, margin=0.0):
         Also split where two distant parts of a chart come closer than this in
         projection (see :func:`.overlap.fold_conflicts`); use about two
         texels so bilinear filtering never mixes distant surfaces.
+    same_place : float, object units
+        Leave alone two triangles whose centres are closer than this: one
+        surface at the scale of a proxy made of cubes this wide
+        (:mod:`.coarse`), whose clustering crumples it.
 
     Returns
     -------
@@ -325,6 +329,9 @@ def make_injective(mesh, topology, charts, margin=0.0):
             # Two triangles of one face cannot be split apart (a face's corners hold one UV per layer): a
             # polygon folded over itself (a Boolean's n-gon, say) stays as it is rather than be split forever.
             pairs = pairs[mesh.triangle_face[pairs[:, 0]] != mesh.triangle_face[pairs[:, 1]]]
+            if same_place > 0.0 and len(pairs):
+                centres = corners[pairs].mean(axis=2)                          # (p, 2, 3)
+                pairs = pairs[np.linalg.norm(centres[:, 0] - centres[:, 1], axis=1) >= same_place]
             if not len(pairs):
                 break
             # Two triangles' faces, each pair in one chart: every pair is parted at once.

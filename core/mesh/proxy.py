@@ -8,12 +8,10 @@ can show.  This module makes the stand-in (a proxy) those steps could run on:
     cluster_of_vertex, cluster_position = grid_clusters(positions, cell)
     proxy, proxy_of_triangle = proxy_triangles(cluster_of_vertex, triangles)
 
-Not used by the bake yet.  ``tests/bench/bench_texel_proxy.py`` measures what
-the layout costs on such a proxy against the whole mesh, and how many charts
-it makes: the proxy's clustered triangles cross and fold, so its charts are
-many more than the mesh's.  Which triangle of the mesh goes to which chart of
-the proxy, and what that does to the guarantees (no two surfaces in a texel,
-no fold at texel scale), is the next step, not this module's.
+The layout's charts are made on it where a mesh has several triangles a
+texel (:mod:`..charts.coarse`, which says what becomes of the guarantees).
+``tests/bench/bench_texel_proxy.py`` measures what the layout costs on such a
+proxy against the whole mesh.
 """
 
 import numpy as np

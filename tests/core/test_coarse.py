@@ -1,0 +1,95 @@
+"""core/charts/coarse.py: the charts of a mesh far finer than its image, made on its texel-scale proxy (issue 56)."""
+
+import numpy as np
+import pytest
+
+import meshes
+from layout_checks import check_lookups, check_texels_finite
+from plane_judge import boxes_within, depth_at, interiors_overlap, overlap_point
+from seamless_ao.core.charts.clustering import make_injective, signed_axis_clusters
+from seamless_ao.core.charts.coarse import vertex_pieces, wants_proxy
+from seamless_ao.core.layout import build_layout
+from seamless_ao.core.mesh.adjacency import face_adjacency
+from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
+
+
+def _head_and_eye(gap=0.02):
+    """A fine sphere of radius 1 and a fine sphere of radius 0.3 above it, ``gap`` from it: Suzanne's eye in its
+    socket, closer to the head than a texel at a small image.  Also each vertex's piece, 0 head, 1 eye."""
+    head, head_triangles = meshes.uv_sphere(1.0, rings=60, segments=120)
+    eye, eye_triangles = meshes.uv_sphere(0.3, rings=30, segments=60)
+    eye = eye + [0.0, 0.0, 1.3 + gap]
+    positions = np.vstack([head, eye])
+    triangles = np.vstack([head_triangles, eye_triangles + len(head)])
+    return TriangleMesh.from_triangles(positions, triangles, smooth=True), np.repeat([0, 1], [len(head), len(eye)])
+
+
+def _far_overlaps(mesh, charts, density):
+    """For each axis, the largest distance in texels between the centres of two triangles of one chart whose
+    projections overlap at different depths (0 where none do), judged by :mod:`plane_judge`."""
+    live = ~mesh.degenerate
+    corners = mesh.positions[mesh.triangles]
+    centres = corners.mean(axis=1)
+    farthest = []
+    for axis in range(3):
+        keep = [k for k in range(3) if k != axis]
+        uv, depth = corners[:, :, keep], corners[:, :, axis]
+        group = np.where(live, charts.chart_of_face[mesh.triangle_face, axis], -1)
+        pairs = boxes_within(uv, group, 0.0)
+        a, b = pairs[:, 0], pairs[:, 1]
+        meet = interiors_overlap(uv[a], uv[b], 1e-12 * mesh.scale ** 2)
+        a, b = a[meet], b[meet]
+        point = overlap_point(uv[a], uv[b])
+        apart = np.abs(depth_at(point, uv[a], depth[a]) - depth_at(point, uv[b], depth[b])) > 1e-9 * mesh.scale
+        distance = np.linalg.norm(centres[a[apart]] - centres[b[apart]], axis=1) * density
+        farthest.append(float(distance.max(initial=0.0)))
+    return farthest
+
+
+def test_pieces_are_triangles_joined_through_corners_at_one_position():
+    positions, triangles = meshes.box(subdivisions=3)
+    other = positions + [3.0, 0.0, 0.0]
+    split_positions, split_triangles = meshes.split_vertices(other, triangles)   # every triangle its own vertices
+    mesh = TriangleMesh.from_triangles(np.vstack([positions, split_positions]),
+                                       np.vstack([triangles, split_triangles + len(positions)]))
+    piece = vertex_pieces(mesh)
+    assert len(set(piece[:len(positions)].tolist())) == 1
+    assert len(set(piece[len(positions):].tolist())) == 1
+    assert piece[0] != piece[-1]
+
+
+def test_a_fine_mesh_at_a_small_image_is_laid_out_on_its_proxy_and_keeps_every_promise():
+    mesh, vertex_piece = _head_and_eye()
+    assert wants_proxy(mesh, 60.0, image_size=64)
+    assert not wants_proxy(mesh, 60.0, image_size=512)
+    layout = build_layout(mesh, image_size=64)
+    charts = layout.charts
+    # the eye is closer to the head than a proxy cube, yet no chart holds faces of both
+    face_piece = vertex_piece[mesh.triangles[:, 0]]
+    for axis in range(3):
+        chart = charts.chart_of_face[:, axis]
+        inside = chart >= 0
+        pieces_per_chart = np.zeros((charts.count, 2), dtype=bool)
+        pieces_per_chart[chart[inside], face_piece[inside]] = True
+        assert not pieces_per_chart.all(axis=1).any(), axis
+    # every face is in a chart on the axis it faces most
+    dominant = np.argmax(np.abs(mesh.triangle_normal), axis=1)
+    assert (charts.chart_of_face[np.arange(mesh.face_count), dominant] >= 0).all()
+    # what the proxy cannot see is folds smaller than its cubes (a texel): none farther apart than that
+    assert max(_far_overlaps(mesh, charts, layout.atlas.density)) <= 1.5
+    check_lookups(layout, np.random.default_rng(0))
+    check_texels_finite(layout)
+
+
+@pytest.mark.parametrize("same_place_pitches, split", [(0.0, True), (0.4, True), (4.0, False)])
+def test_folds_closer_than_same_place_are_left_alone(same_place_pitches, split):
+    """The spiral ramp's top folds over itself once a turn, a pitch (0.25) higher, over three turns: its charts
+    on Z are split unless ``same_place`` reaches past three pitches (its walls, farther apart, are split
+    either way)."""
+    pitch = 0.25
+    mesh = TriangleMesh.from_triangles(*meshes.spiral_ramp(pitch=pitch))
+    topology = face_adjacency(mesh)
+    clusters = signed_axis_clusters(mesh, topology)
+    charts = make_injective(mesh, topology, clusters, same_place=same_place_pitches * pitch)
+    on_z = [int((found.chart_axis // 2 == 2).sum()) for found in (clusters, charts)]
+    assert (on_z[1] > on_z[0]) == split, on_z
