@@ -180,7 +180,8 @@ class BakeSettings(_Settings):
     denoise: bool = _setting(
         True, "Denoise",
         "Edge-aware filter over each texel's surface neighbours (little weight across creases and contact shadows)")
-    seed: int = _setting(0, "Seed", "Random seed; the same seed gives the same image", min=0, max=2**31 - 1)
+    seed: int = _setting(0, "Seed", "Random seed; the same seed casts the same rays (Cycles' bulk aside: it follows "
+                         "its batches)", min=0, max=2**31 - 1)
     use_scene_occluders: bool = _setting(
         False, "Scene Occluders",
         "Other visible mesh objects of the scene within the maximum ray distance also occlude (contact shadows)")

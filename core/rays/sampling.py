@@ -4,8 +4,10 @@ The first two dimensions of Sobol' form a (0, 2)-sequence: every prefix of
 length 2^k is stratified, so the first quarter of the rays (the adaptive
 pilot) is itself a well-spread set.  Each texel XORs the sequence with its own
 random 32-bit words (a random digital shift, which keeps the stratification),
-drawn from a hash of the texel index and the seed: results do not depend on
-how texels are batched, and the same seed gives the same image bit for bit.
+drawn from a hash of the texel index and the seed: these rays do not depend on
+how texels are batched, and where they are all the rays (the Geometry Nodes
+caster) the same seed gives the same image bit for bit.  Cycles' bulk rays
+follow its batches (docs/how-it-works.md).
 """
 
 import numpy as np
