@@ -121,7 +121,8 @@ def coarse_charts(mesh, compare_angle, image_size=None, density=None, separation
     # a piece's vertices never share a cube with another piece's: an eye in its socket stays an eye
     cluster_of_vertex, cluster_position = grid_clusters(mesh.positions, cell, vertex_pieces(mesh))
     proxy, proxy_of_triangle = proxy_triangles(cluster_of_vertex, mesh.triangles)
-    # a proxy triangle facing away from the triangles it stands for turned over in the clustering: left out
+    # a proxy triangle turned from the triangles it stands for by more than UPRIGHT_COSINE allows was crumpled
+    # (or turned over) by the clustering: left out
     live = (proxy_of_triangle >= 0) & ~mesh.degenerate
     source_normal = np.zeros((len(proxy), 3))
     np.add.at(source_normal, proxy_of_triangle[live], mesh.triangle_cross[live])
