@@ -72,11 +72,11 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     timings = {}
     # no chart longer than a quarter of the image at the expected density (charts are never rotated)
     longest_texels = image_size / 4 if density is None else LONGEST_CHART_TEXELS
-    if len(meshes) == 1 and wants_proxy(mesh, compare_angle, image_size if density is None else None, density):
+    size = image_size if density is None else None
+    if len(meshes) == 1 and wants_proxy(mesh, compare_angle, size, density):
         # far more triangles than texels: charts made at the scale the image shows (charts/coarse.py)
-        coarse = coarse_charts(mesh, compare_angle, image_size if density is None else None, density,
-                               SEPARATION_TEXELS, longest_texels, timings)
-        charts, topology = coarse.charts, coarse.topology
+        charts, topology = coarse_charts(mesh, compare_angle, size, density, SEPARATION_TEXELS, longest_texels,
+                                         timings)
     else:
         start = time.perf_counter()
         topology = face_adjacency(mesh)

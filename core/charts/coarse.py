@@ -30,17 +30,16 @@ triangles of a chart more than 1.5 texels apart overlap).
 """
 
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..atlas.chart_atlas import expected_density
 from ..atlas.long_charts import estimate_density
-from ..arrays.graph import connected_components
+from ..arrays.graph import group_starts, scatter_rows
 from ..mesh.adjacency import Topology, face_adjacency
 from ..mesh.proxy import grid_clusters, proxy_triangles
 from ..mesh.triangle_mesh import MeshArrays, MeshReport
-from ..mesh.weld import exact_weld
+from ..mesh.weld import vertex_pieces
 from .clustering import AXES, Charts, _renumber, cut_long_charts, make_injective, signed_axis_clusters
 
 #: A single mesh is laid out on a proxy when it has at least this many live triangles per texel its layout is
@@ -59,17 +58,6 @@ SAME_PLACE_CELLS = 3.0
 UPRIGHT_COSINE = 0.5
 #: Share of the image the layout is expected to cover (what :func:`..atlas.long_charts.estimate_density` aims at).
 COVERED_SHARE = 0.55
-
-
-@dataclass
-class CoarseCharts:
-    """The mesh's charts, made on a proxy, and what the rest of the layout needs from that."""
-
-    charts: Charts
-    expected_density: float          # texels per object unit, from the proxy's charts
-    cell: float                      # the proxy's cube side, object units
-    proxy_triangles: int
-    topology: Topology               # for the packing: no face pairs (every face has a chart)
 
 
 def plane_area(mesh, compare_angle):
@@ -95,8 +83,7 @@ def wants_proxy(mesh, compare_angle, image_size=None, density=None):
     return live >= PROXY_FROM_TRIANGLES_PER_TEXEL * max(expected_texels(mesh, compare_angle, image_size, density), 1.0)
 
 
-def coarse_charts(mesh, compare_angle, image_size=None, density=None, separation_texels=3.0,
-                  longest_texels=None, timings=None):
+def coarse_charts(mesh, compare_angle, image_size, density, separation_texels, longest_texels, timings=None):
     """The mesh's charts, made on its texel-scale proxy (see the module).
 
     Parameters
@@ -105,27 +92,27 @@ def coarse_charts(mesh, compare_angle, image_size=None, density=None, separation
     compare_angle : float, degrees
     image_size : int or None; density : float or None, texels per object unit (one of them)
     separation_texels : float, what :func:`.clustering.make_injective` keeps between distant parts, in texels
-    longest_texels : float or None: charts longer than this many texels are cut (default: a quarter of the
-        image, or 1024 at a given density)
+    longest_texels : float: charts longer than this many texels are cut
     timings : dict, optional: gets the seconds of ``charts`` (the proxy, its charts, and the faces' charts) and
         ``injectivity`` (the proxy's charts made injective and cut), the stages the bake reports
 
     Returns
     -------
-    CoarseCharts
+    (Charts of the mesh's faces, Topology for the packing: the mesh's report, no face pairs: every face has a chart)
     """
     start = time.perf_counter()
     guess = float(density) if density is not None else estimate_density(
         plane_area(mesh, compare_angle), image_size, COVERED_SHARE)
     cell = PROXY_CELL_TEXELS / guess
     # a piece's vertices never share a cube with another piece's: an eye in its socket stays an eye
-    cluster_of_vertex, cluster_position = grid_clusters(mesh.positions, cell, vertex_pieces(mesh))
+    pieces = vertex_pieces(mesh.positions, mesh.triangles)
+    cluster_of_vertex, cluster_position = grid_clusters(mesh.positions, cell, pieces)
     proxy, proxy_of_triangle = proxy_triangles(cluster_of_vertex, mesh.triangles)
     # a proxy triangle turned from the triangles it stands for by more than UPRIGHT_COSINE allows was crumpled
     # (or turned over) by the clustering: left out
     live = (proxy_of_triangle >= 0) & ~mesh.degenerate
     source_normal = np.zeros((len(proxy), 3))
-    np.add.at(source_normal, proxy_of_triangle[live], mesh.triangle_cross[live])
+    scatter_rows(np.add, source_normal, proxy_of_triangle[live], mesh.triangle_cross[live])
     corners = cluster_position[proxy]
     proxy_cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     upright = np.einsum("pk,pk->p", proxy_cross, source_normal) > UPRIGHT_COSINE * (
@@ -147,8 +134,6 @@ def coarse_charts(mesh, compare_angle, image_size=None, density=None, separation
     middle = time.perf_counter()
     charts = make_injective(proxy_mesh, topology, charts, margin=separation_texels / expected + MARGIN_CELLS * cell,
                             same_place=SAME_PLACE_CELLS * cell)
-    if longest_texels is None:
-        longest_texels = image_size / 4 if density is None else 1024
     charts = cut_long_charts(proxy_mesh, charts, longest_texels / expected)
     after = time.perf_counter()
 
@@ -160,7 +145,7 @@ def coarse_charts(mesh, compare_angle, image_size=None, density=None, separation
     if timings is not None:
         timings["charts"] = (middle - start) + (time.perf_counter() - after)
         timings["injectivity"] = after - middle
-    return CoarseCharts(face_charts, expected, cell, len(proxy), Topology(None, None, empty, report))
+    return face_charts, Topology(None, None, empty, report)
 
 
 def faces_from_proxy(mesh, cluster_of_vertex, proxy, proxy_normal, proxy_of_triangle, proxy_charts):
@@ -201,12 +186,13 @@ def faces_from_proxy(mesh, cluster_of_vertex, proxy, proxy_normal, proxy_of_tria
         # one stable sort by cluster; per axis, each cluster's first triangle of the highest score
         order = np.argsort(ring_cluster, kind="stable")
         ring_cluster, ring_triangle = ring_cluster[order], ring_triangle[order]
-        start = np.flatnonzero(np.r_[True, ring_cluster[1:] != ring_cluster[:-1]])
+        bounds = group_starts(ring_cluster)
+        start, size = bounds[:-1], np.diff(bounds)
         position = np.arange(len(order))
         score = proxy_normal[ring_triangle] @ AXES.T                           # (r, 6)
         for axis_sign in range(6):
             highest = np.maximum.reduceat(score[:, axis_sign], start)
-            at_highest = score[:, axis_sign] == np.repeat(highest, np.diff(np.r_[start, len(order)]))
+            at_highest = score[:, axis_sign] == np.repeat(highest, size)
             first = np.minimum.reduceat(np.where(at_highest, position, len(order)), start)
             best[ring_cluster[start], axis_sign] = ring_triangle[first]
     looking = np.flatnonzero((taken < 0) & live)
@@ -230,15 +216,6 @@ def faces_from_proxy(mesh, cluster_of_vertex, proxy, proxy_normal, proxy_of_tria
         dominant_axis[alone] = signed[alone]
         chart_axis = np.concatenate([chart_axis, unique_key % 6])
     return _renumber(Charts(chart_of_face, chart_axis, dominant_axis))
-
-
-def vertex_pieces(mesh):
-    """(v,) int64: the piece of every vertex of ``mesh``, pieces being triangles joined through corners at one
-    position (a box with split normals is one piece)."""
-    welded = exact_weld(mesh.positions)
-    corner = welded[mesh.triangles]
-    piece = connected_components(int(welded.max(initial=-1)) + 1, np.concatenate([corner[:, :2], corner[:, 1:]]))
-    return piece[welded]
 
 
 def one_per_directed_edge(proxy, keep, weight, rounds=3):

@@ -15,8 +15,7 @@ to its area, those of a shell with a hole to the hole's area.
 
 import numpy as np
 
-from ..arrays.graph import connected_components
-from .weld import exact_weld
+from .weld import vertex_pieces
 
 #: A piece is sealed when its area-weighted normals sum to less than this fraction of its area (a closed
 #: surface 0, a hemisphere one half, a flat sheet 1; tests/bench/bench_buried.py prints the openings of real
@@ -52,8 +51,7 @@ def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):
     if not len(triangles):
         return np.zeros(0, dtype=bool)
     positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
-    welded = exact_weld(positions)[triangles]
-    piece = connected_components(int(welded.max()) + 1, np.concatenate([welded[:, :2], welded[:, 1:]]))[welded[:, 0]]
+    piece = vertex_pieces(positions, triangles)[triangles[:, 0]]
     pieces = int(piece.max()) + 1
     centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0))            # only for precision
     a, b, c = ((positions[triangles[:, k]] - centre).T for k in range(3))       # (3, t) each

@@ -101,7 +101,7 @@ def test_custom_split_normals_are_the_normals_baked_with(addon, fresh_scene):
     same mesh shaded flat (and not as it would shaded smooth).
 
     Geometry Nodes casts every ray: its rays are the same whatever the machine's load, where the Cycles
-    caster's split of the texels into bakes follows how long each took (docs/engines.md), and the noise of
+    caster's split of the texels into bakes follows how long each took (docs/how-it-works.md), and the noise of
     three bakes at 32 rays would then reach the limits below."""
     from blender_scenes import suzanne
     images = {}

@@ -9,7 +9,8 @@ from seamless_ao.core.rays.job import crease_points
 from seamless_ao.core.rays.ray_setup import AOParams, BVHCaster
 from seamless_ao.core.rays.targets import buried_rim
 from seamless_ao.core.atlas.raster import Texels
-from seamless_ao.core.mesh.sealed import MAX_OPENING, exact_weld, sealed_triangles
+from seamless_ao.core.mesh.sealed import MAX_OPENING, sealed_triangles
+from seamless_ao.core.mesh.weld import exact_weld
 
 
 def sheet(size=2.0, z=0.0, rows=4, x=0.0):

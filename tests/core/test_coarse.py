@@ -4,13 +4,13 @@ import numpy as np
 import pytest
 
 import meshes
-from layout_checks import check_lookups, check_texels_finite
-from plane_judge import boxes_within, depth_at, interiors_overlap, overlap_point
+from layout_checks import check_lookups, check_texels_finite, overlapping_pairs
 from seamless_ao.core.charts.clustering import make_injective, signed_axis_clusters
-from seamless_ao.core.charts.coarse import vertex_pieces, wants_proxy
+from seamless_ao.core.charts.coarse import wants_proxy
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.mesh.adjacency import face_adjacency
 from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
+from seamless_ao.core.mesh.weld import vertex_pieces
 
 
 def _head_and_eye(gap=0.02):
@@ -26,23 +26,12 @@ def _head_and_eye(gap=0.02):
 
 def _far_overlaps(mesh, charts, density):
     """For each axis, the largest distance in texels between the centres of two triangles of one chart whose
-    projections overlap at different depths (0 where none do), judged by :mod:`plane_judge`."""
-    live = ~mesh.degenerate
-    corners = mesh.positions[mesh.triangles]
-    centres = corners.mean(axis=1)
+    projections overlap at different depths (0 where none do)."""
+    centres = mesh.positions[mesh.triangles].mean(axis=1)
     farthest = []
     for axis in range(3):
-        keep = [k for k in range(3) if k != axis]
-        uv, depth = corners[:, :, keep], corners[:, :, axis]
-        group = np.where(live, charts.chart_of_face[mesh.triangle_face, axis], -1)
-        pairs = boxes_within(uv, group, 0.0)
-        a, b = pairs[:, 0], pairs[:, 1]
-        meet = interiors_overlap(uv[a], uv[b], 1e-12 * mesh.scale ** 2)
-        a, b = a[meet], b[meet]
-        point = overlap_point(uv[a], uv[b])
-        apart = np.abs(depth_at(point, uv[a], depth[a]) - depth_at(point, uv[b], depth[b])) > 1e-9 * mesh.scale
-        distance = np.linalg.norm(centres[a[apart]] - centres[b[apart]], axis=1) * density
-        farthest.append(float(distance.max(initial=0.0)))
+        a, b = overlapping_pairs(mesh, charts, axis, 1e-9 * mesh.scale)
+        farthest.append(float((np.linalg.norm(centres[a] - centres[b], axis=1) * density).max(initial=0.0)))
     return farthest
 
 
@@ -52,7 +41,7 @@ def test_pieces_are_triangles_joined_through_corners_at_one_position():
     split_positions, split_triangles = meshes.split_vertices(other, triangles)   # every triangle its own vertices
     mesh = TriangleMesh.from_triangles(np.vstack([positions, split_positions]),
                                        np.vstack([triangles, split_triangles + len(positions)]))
-    piece = vertex_pieces(mesh)
+    piece = vertex_pieces(mesh.positions, mesh.triangles)
     assert len(set(piece[:len(positions)].tolist())) == 1
     assert len(set(piece[len(positions):].tolist())) == 1
     assert piece[0] != piece[-1]

@@ -98,27 +98,30 @@ def check_texels_finite(layout):
     assert np.isfinite(uv).all() and uv.min() > 0.0 and uv.max() < 1.0
 
 
-def overlaps_per_axis(mesh, topology, charts):
-    """Count of triangle pairs of one chart whose projections overlap at different depths, per axis: every
-    pair of each chart whose boxes meet, judged by :mod:`plane_judge` on the mesh projected here (the axis
-    coordinate dropped), not by core's own projection or tests."""
-    counts = []
+def overlapping_pairs(mesh, charts, axis, tolerance):
+    """Triangle pairs ``(a, b)`` of one chart on ``axis``, of different faces, whose projections overlap where
+    their depths differ by more than ``tolerance`` (object units): every pair of each chart whose boxes meet,
+    judged by :mod:`plane_judge` on the mesh projected here (the axis coordinate dropped), not by core's own
+    projection or tests."""
     live = ~mesh.degenerate
-    tolerance = SAME_SURFACE * mesh.scale
-    for axis in range(3):
-        keep = [k for k in range(3) if k != axis]
-        corners = mesh.positions[mesh.triangles]                          # (t, 3, 3)
-        uv, depth = corners[:, :, keep], corners[:, :, axis]
-        group = np.where(live, charts.chart_of_face[mesh.triangle_face, axis], -1)
-        pairs = boxes_within(uv, group, 0.0)
-        a, b = pairs[:, 0], pairs[:, 1]
-        a, b = a[mesh.triangle_face[a] != mesh.triangle_face[b]], b[mesh.triangle_face[a] != mesh.triangle_face[b]]
-        meet = interiors_overlap(uv[a], uv[b], 1e-12 * mesh.scale ** 2)
-        a, b = a[meet], b[meet]
-        point = overlap_point(uv[a], uv[b])
-        gap = np.abs(depth_at(point, uv[a], depth[a]) - depth_at(point, uv[b], depth[b]))
-        counts.append(int((gap > tolerance).sum()))
-    return counts
+    keep = [k for k in range(3) if k != axis]
+    corners = mesh.positions[mesh.triangles]                              # (t, 3, 3)
+    uv, depth = corners[:, :, keep], corners[:, :, axis]
+    group = np.where(live, charts.chart_of_face[mesh.triangle_face, axis], -1)
+    pairs = boxes_within(uv, group, 0.0)
+    a, b = pairs[:, 0], pairs[:, 1]
+    a, b = a[mesh.triangle_face[a] != mesh.triangle_face[b]], b[mesh.triangle_face[a] != mesh.triangle_face[b]]
+    meet = interiors_overlap(uv[a], uv[b], 1e-12 * mesh.scale ** 2)
+    a, b = a[meet], b[meet]
+    point = overlap_point(uv[a], uv[b])
+    gap = np.abs(depth_at(point, uv[a], depth[a]) - depth_at(point, uv[b], depth[b]))
+    return a[gap > tolerance], b[gap > tolerance]
+
+
+def overlaps_per_axis(mesh, topology, charts):
+    """Count of triangle pairs of one chart whose projections overlap at different depths, per axis
+    (:func:`overlapping_pairs`, beyond the layout's own ``SAME_SURFACE``)."""
+    return [len(overlapping_pairs(mesh, charts, axis, SAME_SURFACE * mesh.scale)[0]) for axis in range(3)]
 
 
 def surface_normals(mesh, topology, rounds=NORMAL_SMOOTHING):
