@@ -23,7 +23,7 @@ from .weld import vertex_pieces
 MAX_OPENING = 0.75
 
 
-def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):
+def sealed_triangles(positions, triangles, max_opening=MAX_OPENING, vertex_piece=None):
     """Triangles of pieces that are closed, or nearly, with their normals outward.
 
     A piece is a set of triangles joined by vertices at the same position.
@@ -42,6 +42,8 @@ def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):
     positions : (v, 3) float
     triangles : (t, 3) int
     max_opening : float in [0, 1]
+    vertex_piece : (v,) int, optional: :func:`.weld.vertex_pieces` of these triangles, if already worked out
+        (for the positions of a mesh moved or turned as a whole: pieces do not change with it)
 
     Returns
     -------
@@ -51,7 +53,9 @@ def sealed_triangles(positions, triangles, max_opening=MAX_OPENING):
     if not len(triangles):
         return np.zeros(0, dtype=bool)
     positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
-    piece = vertex_pieces(positions, triangles)[triangles[:, 0]]
+    if vertex_piece is None:
+        vertex_piece = vertex_pieces(positions, triangles)
+    piece = np.asarray(vertex_piece)[triangles[:, 0]]
     pieces = int(piece.max()) + 1
     centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0))            # only for precision
     a, b, c = ((positions[triangles[:, k]] - centre).T for k in range(3))       # (3, t) each

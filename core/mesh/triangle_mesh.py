@@ -12,6 +12,7 @@ import numpy as np
 from ..arrays.graph import scatter_rows, sort_order
 from ..errors import SeamlessAOError
 from .extent import box_size, mesh_size, robust_box
+from .weld import vertex_pieces
 
 
 #: Triangles with less area than this times the squared mesh size are degenerate.
@@ -107,6 +108,7 @@ class TriangleMesh:
     triangle_area: np.ndarray = field(init=False, repr=False, default=None)
     triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
     degenerate: np.ndarray = field(init=False, repr=False, default=None)
+    _vertex_piece: np.ndarray = field(init=False, repr=False, default=None)
 
     def __post_init__(self):
         self.positions = np.ascontiguousarray(self.positions, dtype=np.float64).reshape(-1, 3)
@@ -197,6 +199,15 @@ class TriangleMesh:
     def let_go_of_cross(self):
         """Free :attr:`triangle_cross` (it comes back, the same bits, if read again)."""
         self._cross = None
+
+    @property
+    def vertex_piece(self):
+        """(v,) int64: the piece of every vertex (:func:`.weld.vertex_pieces`), worked out at the first use and
+        kept (8 bytes a vertex): a bake's proxy layout and its sealed test both read it, and it took 0.25 s a
+        million triangles each time."""
+        if self._vertex_piece is None:
+            self._vertex_piece = vertex_pieces(self.positions, self.triangles)
+        return self._vertex_piece
 
     corner_height = property(lambda self: self.corner_height_of(slice(None)),
                              doc="(t, 3) float64, each triangle's heights, a new array each use")

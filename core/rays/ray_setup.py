@@ -263,5 +263,8 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
         for world_positions, other_triangles in occluders:
             triangles.append(other_triangles + sum(len(p) for p in positions))
             positions.append(world_positions - shift)
+    # the mesh alone: its own pieces (kept on the mesh, the proxy layout read them), moved into ray space as a whole
+    vertex_piece = mesh.vertex_piece if len(positions) == 1 else None
     positions, triangles = np.concatenate(positions), np.concatenate(triangles)
-    return RayPart(params, make_caster(positions, triangles, sealed_triangles(positions, triangles)), to_ray)
+    sealed = sealed_triangles(positions, triangles, vertex_piece=vertex_piece)
+    return RayPart(params, make_caster(positions, triangles, sealed), to_ray)
