@@ -35,11 +35,10 @@ import numpy as np
 
 from ..atlas.chart_atlas import expected_density
 from ..atlas.long_charts import estimate_density
-from ..arrays.graph import group_starts, scatter_rows
+from ..arrays.graph import group_starts, scatter_rows, sort_order
 from ..mesh.adjacency import Topology, face_adjacency
 from ..mesh.proxy import grid_clusters, proxy_triangles
 from ..mesh.triangle_mesh import MeshArrays, MeshReport
-from ..mesh.weld import vertex_pieces
 from .clustering import AXES, Charts, _renumber, cut_long_charts, make_injective, signed_axis_clusters
 
 #: A single mesh is laid out on a proxy when it has at least this many live triangles per texel its layout is
@@ -105,8 +104,7 @@ def coarse_charts(mesh, compare_angle, image_size, density, separation_texels, l
         plane_area(mesh, compare_angle), image_size, COVERED_SHARE)
     cell = PROXY_CELL_TEXELS / guess
     # a piece's vertices never share a cube with another piece's: an eye in its socket stays an eye
-    pieces = vertex_pieces(mesh.positions, mesh.triangles)
-    cluster_of_vertex, cluster_position = grid_clusters(mesh.positions, cell, pieces)
+    cluster_of_vertex, cluster_position = grid_clusters(mesh.positions, cell, mesh.vertex_piece)
     proxy, proxy_of_triangle = proxy_triangles(cluster_of_vertex, mesh.triangles)
     # a proxy triangle turned from the triangles it stands for by more than UPRIGHT_COSINE allows was crumpled
     # (or turned over) by the clustering: left out
@@ -220,13 +218,16 @@ def faces_from_proxy(mesh, cluster_of_vertex, proxy, proxy_normal, proxy_of_tria
 
 def one_per_directed_edge(proxy, keep, weight, rounds=3):
     """(p,) bool: ``keep`` with, for every directed edge, only its heaviest kept triangle left (an oriented
-    surface runs each edge once each way)."""
+    surface runs each edge once each way; of equal weights, the first triangle)."""
     keep = keep.copy()
+    # each triangle's place from the heaviest: one integer key with the edge's, a sort of one key per round
+    heaviest_first = np.empty(len(weight), dtype=np.int64)
+    heaviest_first[np.argsort(-np.asarray(weight), kind="stable")] = np.arange(len(weight))
     for _ in range(rounds):
         index = np.flatnonzero(keep)
         key = proxy[index].ravel() * (int(proxy.max(initial=0)) + 1) + np.roll(proxy[index], -1, axis=1).ravel()
         triangle = np.repeat(index, 3)
-        order = np.lexsort((-weight[triangle], key))
+        order = sort_order(key, heaviest_first[triangle])
         first = np.ones(len(order), dtype=bool)
         first[1:] = key[order][1:] != key[order][:-1]
         loser = triangle[order][~first]
