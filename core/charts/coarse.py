@@ -36,6 +36,7 @@ import numpy as np
 from ..atlas.chart_atlas import expected_density
 from ..atlas.long_charts import estimate_density
 from ..arrays.graph import group_starts, scatter_rows, sort_order
+from ..arrays.reduce import row_max
 from ..mesh.adjacency import Topology, face_adjacency
 from ..mesh.proxy import grid_clusters, proxy_triangles
 from ..mesh.triangle_mesh import MeshArrays, MeshReport
@@ -63,7 +64,7 @@ def plane_area(mesh, compare_angle):
     """Object units²: the area the mesh's triangles would project onto the chart planes they are expected to join
     (each axis within ``compare_angle`` of the normal, and the nearest one always), what a layout lays out."""
     cos = np.abs(mesh.triangle_normal)
-    joins = (cos >= np.cos(np.radians(compare_angle))) | (cos == cos.max(axis=1, keepdims=True))
+    joins = (cos >= np.cos(np.radians(compare_angle))) | (cos == row_max(cos)[:, None])
     return float((mesh.triangle_area * (cos * joins).sum(axis=1)).sum())
 
 

@@ -7,6 +7,8 @@ out must not set it (:func:`robust_box`).
 
 import numpy as np
 
+from ..arrays.reduce import column_max, column_min
+
 #: The size that sets the tolerances leaves out the triangles reaching far out of the rest of the mesh
 #: (:func:`robust_box`) if they are at most this share of the triangles (or :data:`STRAY_LEAST`) ...
 OUTLIER_SHARE = 1.0e-3
@@ -26,7 +28,7 @@ def mesh_size(positions):
     positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
     if not len(positions):
         return 1.0
-    size = float(np.linalg.norm(positions.max(axis=0) - positions.min(axis=0)))
+    size = float(np.linalg.norm(column_max(positions) - column_min(positions)))
     return size if size > 0.0 else 1.0
 
 
@@ -54,7 +56,7 @@ def robust_box(positions, triangles):
     none = np.zeros(len(triangles), dtype=bool)
     if not len(points):
         return np.zeros(3), np.zeros(3), none
-    low, high = points.min(axis=0), points.max(axis=0)
+    low, high = column_min(points), column_max(points)
     if len(triangles) < ROBUST_LEAST_TRIANGLES:
         return low, high, none
     trim = min(max(TRIM_LEAST, int(len(points) * TRIM_SHARE)), (len(points) - 1) // 4)
@@ -68,7 +70,7 @@ def robust_box(positions, triangles):
     if stray.sum() > max(OUTLIER_SHARE * len(triangles), STRAY_LEAST) or stray.all():
         return low, high, none
     kept = positions[triangles[~stray]].reshape(-1, 3)
-    return kept.min(axis=0), kept.max(axis=0), stray
+    return column_min(kept), column_max(kept), stray
 
 
 def box_size(low, high):

@@ -17,6 +17,7 @@ proxy against the whole mesh.
 import numpy as np
 
 from ..arrays.graph import row_labels
+from ..arrays.reduce import column_min
 
 #: Cube indices are clipped to this many cubes from the mesh's lowest corner: a stray vertex 10^18 out at a
 #: cell of 10^-3 would otherwise overflow int64 (far vertices then share the last cube; they are strays).
@@ -46,7 +47,7 @@ def grid_clusters(positions, cell, groups=None):
     if not len(positions):
         return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
     finite = np.isfinite(positions).all(axis=1)
-    low = positions[finite].min(axis=0) if finite.any() else np.zeros(3)
+    low = column_min(positions[finite]) if finite.any() else np.zeros(3)
     cube = np.floor((np.where(finite[:, None], positions, low) - low) / cell)
     cube = np.clip(cube, 0.0, float(FARTHEST_CUBE)).astype(np.int64)
     keys = [cube[:, 0], cube[:, 1], cube[:, 2]]

@@ -15,6 +15,7 @@ to its area, those of a shell with a hole to the hole's area.
 
 import numpy as np
 
+from ..arrays.reduce import column_max, column_min
 from .weld import vertex_pieces
 
 #: A piece is sealed when its area-weighted normals sum to less than this fraction of its area (a closed
@@ -57,7 +58,7 @@ def sealed_triangles(positions, triangles, max_opening=MAX_OPENING, vertex_piece
         vertex_piece = vertex_pieces(positions, triangles)
     piece = np.asarray(vertex_piece)[triangles[:, 0]]
     pieces = int(piece.max()) + 1
-    centre = 0.5 * (positions.min(axis=0) + positions.max(axis=0))            # only for precision
+    centre = 0.5 * (column_min(positions) + column_max(positions))            # only for precision
     a, b, c = ((positions[triangles[:, k]] - centre).T for k in range(3))       # (3, t) each
     u, v = b - a, c - a
     cross = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])   # 2 * area * normal

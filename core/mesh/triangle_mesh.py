@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..arrays.graph import scatter_rows, sort_order
+from ..arrays.reduce import row_min
 from ..errors import SeamlessAOError
 from .extent import box_size, mesh_size, robust_box
 from .weld import vertex_pieces
@@ -135,7 +136,7 @@ class TriangleMesh:
         self._cross = np.cross(second - first, third - first)
         length = _row_length(self._cross)
         self.triangle_area = 0.5 * length
-        least_height = _corner_heights(first, second, third, length).min(axis=1)
+        least_height = row_min(_corner_heights(first, second, third, length))
         self.longest_side = 2.0 * self.triangle_area / np.maximum(least_height, 1e-300)
         self.degenerate = self.triangle_area <= DEGENERATE_AREA * self.scale**2
         self.triangle_normal = np.zeros_like(self._cross)

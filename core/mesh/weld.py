@@ -4,6 +4,7 @@
 import numpy as np
 
 from ..arrays.graph import connected_components, group_starts, scatter_rows
+from ..arrays.reduce import column_max
 
 
 def exact_weld(positions, groups=None, return_first=False):
@@ -108,7 +109,7 @@ def weld_vertices(positions, tolerance, groups=None):
     far = (cell > 2.0**50).any(axis=1)
     if far.any():
         cell = np.minimum(cell, 2.0**50)
-    cells_per_axis = np.floor(cell.max(axis=0)).astype(np.int64) + 2
+    cells_per_axis = np.floor(column_max(cell)).astype(np.int64) + 2
     single_key = float(np.prod(cells_per_axis.astype(np.float64))) * group_count < 2.0**62
     # Vertices at one position share every cell: weld them at once, and only their lowest one to others.
     same, lowest = exact_weld(positions, groups, return_first=True)

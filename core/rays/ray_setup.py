@@ -18,6 +18,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..arrays.reduce import column_max, column_min
 from ..mesh.extent import mesh_size
 from ..mesh.sealed import sealed_triangles
 
@@ -78,7 +79,7 @@ def rest_vertices(mesh):
     """(k,) int64: the vertices of ``mesh`` its triangles use, but for debris far out (the triangles
     :attr:`..mesh.triangle_mesh.TriangleMesh.stray` marks; loose vertices are no part of the mesh), or None when the
     whole mesh is the rest (its box is :attr:`..mesh.triangle_mesh.TriangleMesh.box`)."""
-    whole = (mesh.positions.min(axis=0), mesh.positions.max(axis=0))
+    whole = (column_min(mesh.positions), column_max(mesh.positions))
     if np.array_equal(np.array(mesh.box), np.array(whole)):
         return None
     return np.unique(mesh.triangles[~mesh.stray])
@@ -180,7 +181,7 @@ def ray_space(positions, linear, box=None):
     """
     linear = np.asarray(linear, dtype=np.float64)
     if box is None:
-        box = (positions.min(axis=0), positions.max(axis=0)) if len(positions) else (np.zeros(3), np.zeros(3))
+        box = (column_min(positions), column_max(positions)) if len(positions) else (np.zeros(3), np.zeros(3))
     centre = 0.5 * (box[0] + box[1])
     normal_matrix = np.linalg.inv(linear)            # row vectors: n' = n @ inv(L)  ==  inv(L)^T n
 
@@ -226,7 +227,7 @@ def world_reach(mesh, matrix, settings):
     matrix = np.asarray(matrix, dtype=np.float64)
     rest = rest_vertices(mesh)
     world = (mesh.positions if rest is None else mesh.positions[rest]) @ matrix[:3, :3].T + matrix[:3, 3]
-    low, high = (world.min(axis=0), world.max(axis=0)) if len(world) else (np.zeros(3), np.zeros(3))
+    low, high = (column_min(world), column_max(world)) if len(world) else (np.zeros(3), np.zeros(3))
     reach = 0.5 * mesh_size(world) if settings.auto_distance else settings.max_distance
     return low, high, reach
 
