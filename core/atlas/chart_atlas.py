@@ -212,7 +212,9 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
         member_area *= factor[member_chart] ** 2
     area = float(member_area[live].sum())
     expected = density if density is not None else estimate_density(area, image_size, 0.7)
-    covers = chart_covers(local_uv[live], member_chart[live], charts.count, expected)
+    every = bool(live.all())                  # then no copy of every member's corners (48 MB a million)
+    covers = chart_covers(local_uv if every else local_uv[live], member_chart if every else member_chart[live],
+                          charts.count, expected)
     if image_size is not None:
         # the density at which the charts' boxes with the least padding fill the image
         all_points = POINT_TEXELS / max(covers.extent.max(), 1e-300)

@@ -14,7 +14,6 @@ from seamless_ao.core.mesh.triangle_mesh import TriangleMesh, duplicate_triangle
 from seamless_ao.core.mesh.weld import weld_vertices
 from seamless_ao.core.charts.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
 from seamless_ao.core.arrays.geometry2d import segment_distance, triangle_angles
-from seamless_ao.core.arrays.reduce import column_max, column_min, row_max, row_min
 from seamless_ao.core.atlas.packing import SMALL_TEXELS, density_filling
 from seamless_ao.core.export.png import encode_png
 from seamless_ao.core.rays.ray_setup import AOParams, ao_params
@@ -436,16 +435,3 @@ def test_duplicate_triangle_count_counts_repeats_of_a_vertex_set_in_any_order(ve
     assert expected >= 100
     assert duplicate_triangle_count(triangles) == expected
     assert duplicate_triangle_count(np.zeros((0, 3), dtype=np.int64)) == 0
-
-
-@pytest.mark.parametrize("dtype", [np.float64, np.float32, np.int64])
-def test_narrow_reductions_are_numpys_along_each_axis_nan_and_all(dtype):
-    values = (np.random.default_rng(3).normal(size=(1000, 3)) * 100).astype(dtype)
-    if dtype != np.int64:
-        values[7, 1] = np.nan                                # numpy's answer in that row and column is NaN
-        values[9] = [-0.0, 0.0, -0.0]
-    for ours, numpys in ((column_min, lambda v: v.min(axis=0)), (column_max, lambda v: v.max(axis=0)),
-                         (row_min, lambda v: v.min(axis=1)), (row_max, lambda v: v.max(axis=1))):
-        got, expected = ours(values), numpys(values)
-        assert got.dtype == expected.dtype and got.shape == expected.shape
-        assert np.array_equal(got.view(np.uint8), expected.view(np.uint8)), ours.__name__
