@@ -1,4 +1,4 @@
-"""Least and greatest along one axis of a narrow array: ``(n, k)`` with ``k`` a few columns.
+"""Least, greatest and length along one axis of a narrow array: ``(n, k)`` with ``k`` a few columns.
 
 numpy reduces ``values.min(axis=0)`` of a ``(n, 3)`` array row by row, three
 items at a time, and ``values.max(axis=1)`` the same way: on a million rows
@@ -39,3 +39,10 @@ def row_max(values):
     for column in range(1, values.shape[1]):
         np.maximum(greatest, values[:, column], out=greatest)
     return greatest
+
+
+def row_length(vectors):
+    """(...,) Euclidean length of ``vectors`` (..., 3): ``np.linalg.norm(vectors, axis=-1)``'s arithmetic
+    (the squares summed in order), without its reduction over a trailing axis of 3, three times slower."""
+    x, y, z = vectors[..., 0], vectors[..., 1], vectors[..., 2]
+    return np.sqrt(x * x + y * y + z * z)

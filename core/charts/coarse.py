@@ -36,7 +36,7 @@ import numpy as np
 from ..atlas.chart_atlas import expected_density
 from ..atlas.long_charts import estimate_density
 from ..arrays.graph import group_starts, scatter_rows, sort_order
-from ..arrays.reduce import row_max
+from ..arrays.reduce import row_length, row_max
 from ..mesh.adjacency import Topology, face_adjacency
 from ..mesh.proxy import grid_clusters, proxy_triangles
 from ..mesh.triangle_mesh import MeshArrays, MeshReport
@@ -115,15 +115,15 @@ def coarse_charts(mesh, compare_angle, image_size, density, separation_texels, l
     corners = cluster_position[proxy]
     proxy_cross = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     upright = np.einsum("pk,pk->p", proxy_cross, source_normal) > UPRIGHT_COSINE * (
-        np.linalg.norm(proxy_cross, axis=1) * np.linalg.norm(source_normal, axis=1))
+        row_length(proxy_cross) * row_length(source_normal))
     # an oriented surface runs each edge once each way: of the proxy triangles on one directed edge, the one
     # standing for the most area is kept
-    upright &= one_per_directed_edge(proxy, upright, np.linalg.norm(source_normal, axis=1))
+    upright &= one_per_directed_edge(proxy, upright, row_length(source_normal))
     renumber = np.full(len(proxy) + 1, -1, dtype=np.int64)
     renumber[np.flatnonzero(upright)] = np.arange(int(upright.sum()))
     proxy, proxy_cross = proxy[upright], proxy_cross[upright]
     proxy_of_triangle = renumber[proxy_of_triangle]
-    proxy_normal = proxy_cross / np.maximum(np.linalg.norm(proxy_cross, axis=1, keepdims=True), 1e-300)
+    proxy_normal = proxy_cross / np.maximum(row_length(proxy_cross)[:, None], 1e-300)
     proxy_mesh = MeshArrays(cluster_position, proxy, np.arange(len(proxy)),
                             np.repeat(proxy_normal[:, None, :], 3, axis=1), face_count=len(proxy)).mesh()
 
@@ -168,7 +168,7 @@ def faces_from_proxy(mesh, cluster_of_vertex, proxy, proxy_normal, proxy_of_tria
     first_triangle = np.zeros(face_count, dtype=np.int64)
     first_triangle[mesh.triangle_face[::-1]] = np.arange(len(mesh.triangles))[::-1]
     face_normal = mesh.face_normal
-    live = np.linalg.norm(face_normal, axis=1) > 0.0
+    live = row_length(face_normal) > 0.0
     signed = np.argmax(face_normal @ AXES.T, axis=1)
     # a proxy triangle too small to have a normal is in no chart: its faces look around instead
     proxy_live = proxy_charts.dominant_axis >= 0

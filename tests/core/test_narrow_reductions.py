@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from seamless_ao.core.arrays.geometry2d import corner_max, corner_min
-from seamless_ao.core.arrays.reduce import column_max, column_min, row_max, row_min
+from seamless_ao.core.arrays.reduce import column_max, column_min, row_length, row_max, row_min
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32, np.int64])
@@ -29,3 +29,9 @@ def test_corner_extremes_are_numpys_over_the_corners(shape):
     for ours, numpys in ((corner_min, lambda v: v.min(axis=1)), (corner_max, lambda v: v.max(axis=1))):
         got, expected = ours(values), numpys(values)
         assert got.shape == expected.shape and np.array_equal(got, expected, equal_nan=True), ours.__name__
+
+
+@pytest.mark.parametrize("scale", [1e-150, 1.0, 1e150])
+def test_row_length_is_numpys_norm_to_the_bit(scale):
+    vectors = np.random.default_rng(7).normal(size=(1000, 3)) * scale
+    assert np.array_equal(row_length(vectors).view(np.uint64), np.linalg.norm(vectors, axis=1).view(np.uint64))
