@@ -23,15 +23,6 @@ def column_max(values):
     return np.array([values[:, column].max() for column in range(values.shape[1])], dtype=values.dtype)
 
 
-def row_min(values):
-    """``values.min(axis=1)``: ``values`` (n, k), k >= 1 -> (n,) the least of each row."""
-    values = np.asarray(values)
-    least = values[:, 0].copy()
-    for column in range(1, values.shape[1]):
-        np.minimum(least, values[:, column], out=least)
-    return least
-
-
 def row_max(values):
     """``values.max(axis=1)``: ``values`` (n, k), k >= 1 -> (n,) the greatest of each row."""
     values = np.asarray(values)

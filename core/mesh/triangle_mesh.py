@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..arrays.graph import scatter_rows, sort_order
-from ..arrays.reduce import row_length, row_min
+from ..arrays.reduce import row_length
 from ..errors import SeamlessAOError
 from .extent import box_size, mesh_size, robust_box
 from .weld import vertex_pieces
@@ -132,11 +132,14 @@ class TriangleMesh:
         self.scale = box_size(low, high) if t else mesh_size(self.positions)
         self.part_of_vertex = np.zeros(len(self.positions), dtype=np.int64)
         self.part_scale = np.array([self.scale])
-        first, second, third = self.positions[self.triangles].transpose(1, 0, 2)
-        self._cross = np.cross(second - first, third - first)
+        first, second, third = _corner_columns(self.positions, self.triangles)
+        self._cross = _cross_of_corners(first, second, third)
         length = row_length(self._cross)
         self.triangle_area = 0.5 * length
-        least_height = row_min(_corner_heights(first, second, third, length))
+        # the least of the three heights is over the longest side (a division rounds monotonically: the same bits)
+        longest = np.maximum(np.maximum(_distance(third, second), _distance(first, third)), _distance(second, first))
+        del first, second, third
+        least_height = length / np.maximum(longest, 1e-300)
         self.longest_side = 2.0 * self.triangle_area / np.maximum(least_height, 1e-300)
         self.degenerate = self.triangle_area <= DEGENERATE_AREA * self.scale**2
         self.triangle_normal = np.zeros_like(self._cross)
@@ -189,8 +192,7 @@ class TriangleMesh:
         build until :meth:`let_go_of_cross` (the layout's charts and packing are its last readers, and
         24 bytes a triangle would last through the bake), then worked out again if asked."""
         if self._cross is None:
-            first, second, third = self.positions[self.triangles].transpose(1, 0, 2)
-            self._cross = np.cross(second - first, third - first)
+            self._cross = _cross_of_corners(*_corner_columns(self.positions, self.triangles))
         return self._cross
 
     @triangle_cross.setter
@@ -315,6 +317,28 @@ def _corner_heights(first, second, third, length):
     return length[:, None] / np.maximum(side, 1e-300)
 
 
+
+
+def _corner_columns(positions, triangles):
+    """The corners of ``triangles`` (t, 3) as three lists (first, second, third corner) of three (t,) arrays
+    (x, y, z): numpy's loops over (t, 3) views run three items a row, over (t,) arrays all t at once."""
+    columns = [np.ascontiguousarray(positions[:, axis]) for axis in range(3)]
+    return [[column[triangles[:, corner]] for column in columns] for corner in range(3)]
+
+
+def _cross_of_corners(first, second, third):
+    """(t, 3) float64: ``np.cross(second - first, third - first)`` of corners given as :func:`_corner_columns`
+    makes them, with numpy's arithmetic (each component ``a * b - c * d``, in that order): the same bits."""
+    (ux, uy, uz), (vx, vy, vz) = ([b - a for a, b in zip(first, corner)] for corner in (second, third))
+    cross = np.empty((len(ux), 3))
+    cross[:, 0], cross[:, 1], cross[:, 2] = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+    return cross
+
+
+def _distance(a, b):
+    """(t,) the lengths of ``a - b`` for points given as three (t,) arrays, :func:`row_length`'s arithmetic."""
+    x, y, z = (p - q for p, q in zip(a, b))
+    return np.sqrt(x * x + y * y + z * z)
 
 
 @dataclass

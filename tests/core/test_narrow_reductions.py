@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from seamless_ao.core.arrays.geometry2d import corner_max, corner_min
-from seamless_ao.core.arrays.reduce import column_max, column_min, row_length, row_max, row_min
+from seamless_ao.core.arrays.reduce import column_max, column_min, row_length, row_max
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32, np.int64])
@@ -15,7 +15,7 @@ def test_narrow_reductions_are_numpys_along_each_axis_nan_and_all(dtype):
         values[7, 1] = np.nan                                # numpy's answer in that row and column is NaN
         values[9] = [-0.0, 0.0, -0.0]
     for ours, numpys in ((column_min, lambda v: v.min(axis=0)), (column_max, lambda v: v.max(axis=0)),
-                         (row_min, lambda v: v.min(axis=1)), (row_max, lambda v: v.max(axis=1))):
+                         (row_max, lambda v: v.max(axis=1))):
         got, expected = ours(values), numpys(values)
         assert got.dtype == expected.dtype and got.shape == expected.shape
         assert np.array_equal(got.view(np.uint8), expected.view(np.uint8)), ours.__name__
