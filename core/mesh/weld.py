@@ -63,7 +63,7 @@ _WELD_WINDOW = 8
 
 
 
-def vertex_pieces(positions, triangles):
+def vertex_pieces(positions, triangles, groups=None):
     """(v,) int64: the piece of every vertex, pieces being triangles joined through corners at one position
     (:func:`exact_weld`: a box with split normals is one piece); a vertex in no triangle is a piece of its own.
 
@@ -71,8 +71,9 @@ def vertex_pieces(positions, triangles):
     ----------
     positions : (v, 3) float
     triangles : (t, 3) int
+    groups : (v,) int, optional: vertices of different groups never join (meshes put together)
     """
-    welded = exact_weld(positions)
+    welded = exact_weld(positions, groups)
     corner = welded[np.asarray(triangles, dtype=np.int64).reshape(-1, 3)]
     piece = connected_components(int(welded.max(initial=-1)) + 1, np.concatenate([corner[:, :2], corner[:, 1:]]))
     return piece[welded]

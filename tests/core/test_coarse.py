@@ -45,6 +45,12 @@ def test_pieces_are_triangles_joined_through_corners_at_one_position():
     assert len(set(piece[:len(positions)].tolist())) == 1
     assert len(set(piece[len(positions):].tolist())) == 1
     assert piece[0] != piece[-1]
+    # the same boxes touching, as two meshes put together: two pieces, as the mesh keeps them; one as one mesh
+    touching = positions + [1.0, 0.0, 0.0]            # the box spans -0.5..0.5: they share the face x = 0.5
+    parts = [TriangleMesh.from_triangles(points, triangles) for points in (positions, touching)]
+    together, _ = TriangleMesh.concatenate(parts)
+    assert len(set(together.vertex_piece.tolist())) == 2
+    assert len(set(vertex_pieces(together.positions, together.triangles).tolist())) == 1
 
 
 def test_a_fine_mesh_at_a_small_image_is_laid_out_on_its_proxy_and_keeps_every_promise():
