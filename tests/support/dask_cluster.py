@@ -26,6 +26,14 @@ def wait_for(condition, what, patience=PATIENCE):
         time.sleep(0.05)
 
 
+def _written_address(scheduler_file):
+    """The address in the scheduler's file, or None while the file is missing or not yet whole."""
+    try:
+        return json.loads(scheduler_file.read_text())["address"]
+    except (FileNotFoundError, ValueError, KeyError):
+        return None
+
+
 @contextlib.contextmanager
 def dask_cluster(folder, workers=2, environment=None):
     """A scheduler and ``workers`` workers (one thread each, with a nanny) on 127.0.0.1, logging into
@@ -46,8 +54,9 @@ def dask_cluster(folder, workers=2, environment=None):
 
     start("scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard", "--scheduler-file", str(scheduler_file))
     try:
-        wait_for(scheduler_file.exists, "the scheduler's address")
-        address = json.loads(scheduler_file.read_text())["address"]
+        # the scheduler creates the file before it has written it: wait for an address that reads whole
+        wait_for(lambda: _written_address(scheduler_file) is not None, "the scheduler's address")
+        address = _written_address(scheduler_file)
         for number in range(workers):
             name = "worker{}".format(number + 1)
             start("worker", address, "--name", name, "--nthreads", "1", "--host", "127.0.0.1", "--no-dashboard",
