@@ -67,6 +67,6 @@ module                              what it holds
 :mod:`.arrays.graph`                components, runs, pairs and sorts over index arrays
 :mod:`.arrays.geometry2d`           2D geometry on arrays of triangles and segments
 :mod:`.arrays.grid`                 passes over a texel's 8 neighbours
-:mod:`.arrays.reduce`               least and greatest along one axis of narrow arrays, a column at a time
+:mod:`.arrays.reduce`               least, greatest and row lengths of narrow arrays, a column at a time
 ==================================  ===========================================
 """

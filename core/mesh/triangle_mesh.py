@@ -318,8 +318,6 @@ def _corner_heights(first, second, third, length):
     return length[:, None] / np.maximum(side, 1e-300)
 
 
-
-
 def _corner_columns(positions, triangles):
     """The corners of ``triangles`` (t, 3) as three lists (first, second, third corner) of three (t,) arrays
     (x, y, z): numpy's loops over (t, 3) views run three items a row, over (t,) arrays all t at once."""

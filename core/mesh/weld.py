@@ -62,7 +62,6 @@ _WELD_DIRECTION = np.array([0.5, 0.31, 0.19])
 _WELD_WINDOW = 8
 
 
-
 def vertex_pieces(positions, triangles, groups=None):
     """(v,) int64: the piece of every vertex, pieces being triangles joined through corners at one position
     (:func:`exact_weld`: a box with split normals is one piece); a vertex in no triangle is a piece of its own.
@@ -77,6 +76,7 @@ def vertex_pieces(positions, triangles, groups=None):
     corner = welded[np.asarray(triangles, dtype=np.int64).reshape(-1, 3)]
     piece = connected_components(int(welded.max(initial=-1)) + 1, np.concatenate([corner[:, :2], corner[:, 1:]]))
     return piece[welded]
+
 
 def weld_vertices(positions, tolerance, groups=None):
     """Merge vertices closer than about ``tolerance`` (union over shifted grids).
