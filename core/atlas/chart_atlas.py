@@ -225,7 +225,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     placement = (largest_density(packer, int(image_size), area) if image_size is not None
                  else _place_at_density(packer, covers, area, density, padding, max_size))
     transforms = placement.transforms()                                    # (c, 2, 3)
-    member_uv = _apply(transforms[member_chart], local_uv)
+    member_uv = _apply(transforms, member_chart, local_uv)
     del local_uv
     placed = len(member_triangle)
     member_triangle, member_chart, member_uv, dominant_member = _members_with_orphans(
@@ -254,7 +254,7 @@ def _members_with_orphans(mesh, topology, charts, membership, member_triangle, m
     if len(orphan_triangle):
         orphan_local = project_corners(mesh, orphan_triangle, charts.chart_axis[orphan_chart])
         orphan_local *= factor[orphan_chart][:, None, None]
-        member_uv = np.concatenate([member_uv, _apply(transforms[orphan_chart], orphan_local)])
+        member_uv = np.concatenate([member_uv, _apply(transforms, orphan_chart, orphan_local)])
         member_triangle = np.concatenate([member_triangle, orphan_triangle])
         member_chart = np.concatenate([member_chart, orphan_chart])
     dominant_member = np.full(len(mesh.triangles), -1, dtype=membership.dtype)
@@ -284,11 +284,18 @@ def _place_at_density(packer, covers, area, density, padding, max_size):
 
 
 def _chart_centres(mesh, member_triangle, member_chart, chart_count):
-    """(c, 3) mean of the triangle centres of each chart (object units)."""
-    first, second, third = (mesh.positions[mesh.triangles[member_triangle, k]] for k in range(3))
-    centre = (first + second + third) / 3.0
+    """(c, 3) mean of the triangle centres of each chart (object units): one coordinate at a time, each
+    triangle's centre once however many charts it is in."""
     count = np.maximum(np.bincount(member_chart, minlength=chart_count), 1)
-    return np.stack([np.bincount(member_chart, centre[:, k], chart_count) for k in range(3)], axis=1) / count[:, None]
+    centres = np.empty((chart_count, 3))
+    first, second, third = mesh.triangles.T
+    for k in range(3):
+        column = np.ascontiguousarray(mesh.positions[:, k])
+        centre = column[first] + column[second]
+        centre += column[third]
+        centre /= 3.0
+        centres[:, k] = np.bincount(member_chart, centre[member_triangle], chart_count) / count
+    return centres
 
 
 def _largest_member(mesh, member_triangle, member_chart, chart_count, placed_count, wanted):
@@ -306,12 +313,27 @@ def _largest_member(mesh, member_triangle, member_chart, chart_count, placed_cou
     return best
 
 
-def _apply(transform, points):
-    """Affine ``transform`` (m, 2, 3) applied to ``points`` (m, k, 2)."""
-    u, v = points[..., 0], points[..., 1]
-    t = transform[:, None]                                                  # (m, 1, 2, 3)
-    return np.stack([t[..., 0, 0] * u + t[..., 0, 1] * v + t[..., 0, 2],
-                     t[..., 1, 0] * u + t[..., 1, 1] * v + t[..., 1, 2]], axis=-1)
+def _apply(transforms, chart, points):
+    """``points`` (m, k, 2), each moved by the affine transform (c, 2, 3) of its ``chart`` (m,) int, in place;
+    returns ``points``.  A block of members at a time: the temporaries stay a few MB, where the whole (m, k)
+    at once allocated eight arrays of 36 MB at a million triangles (and this machine's fresh pages cost)."""
+    for start in range(0, len(points), _APPLY_BLOCK):
+        block = points[start:start + _APPLY_BLOCK]
+        t = transforms[chart[start:start + _APPLY_BLOCK]][:, None]                 # (b, 1, 2, 3)
+        u, v = block[..., 0], block[..., 1]
+        new_u = t[..., 0, 0] * u
+        new_u += t[..., 0, 1] * v
+        new_u += t[..., 0, 2]
+        new_v = t[..., 1, 0] * u
+        new_v += t[..., 1, 1] * v
+        new_v += t[..., 1, 2]
+        block[..., 0] = new_u
+        block[..., 1] = new_v
+    return points
+
+
+#: Members :func:`_apply` moves at a time.
+_APPLY_BLOCK = 1 << 16
 
 
 def _adopt_orphans(mesh, topology, charts):

@@ -7,7 +7,8 @@ import pytest
 
 import meshes
 from layout_checks import chart_kinds, check_layers_do_not_overlap, check_lookups, check_texels_finite, least_gap
-from seamless_ao.core.atlas.chart_atlas import _largest_member
+from seamless_ao.core.atlas import chart_atlas
+from seamless_ao.core.atlas.chart_atlas import _apply, _chart_centres, _largest_member
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
 from seamless_ao.core.atlas.packing import xatlas_padding
@@ -123,3 +124,31 @@ def test_large_charts_keep_the_padding_setting_free_between_them_and_not_much_mo
     gap = least_gap(layout, kind)
     assert 2 * q - 2 <= gap <= 2 * q
     assert padding <= gap <= padding + 2
+
+
+def test_apply_moves_every_member_by_its_charts_transform_block_by_block(monkeypatch):
+    """Blocks smaller than the members (and one left over): each point as ``a u + b v + c``, to the bit."""
+    monkeypatch.setattr(chart_atlas, "_APPLY_BLOCK", 7)
+    rng = np.random.default_rng(5)
+    transforms, chart = rng.normal(size=(4, 2, 3)), rng.integers(0, 4, 30)
+    points = rng.normal(size=(30, 3, 2))
+    t = transforms[chart][:, None]
+    u, v = points[..., 0], points[..., 1]
+    expected = np.stack([t[..., 0, 0] * u + t[..., 0, 1] * v + t[..., 0, 2],
+                         t[..., 1, 0] * u + t[..., 1, 1] * v + t[..., 1, 2]], axis=-1)
+    moved = _apply(transforms, chart, points.copy())
+    assert moved.tobytes() == expected.tobytes()
+    assert _apply(transforms, chart[:0], points[:0]).shape == (0, 3, 2)
+
+
+def test_chart_centres_are_the_mean_of_their_members_triangle_centres():
+    rng = np.random.default_rng(6)
+    positions, triangles = rng.normal(size=(20, 3)), rng.integers(0, 20, (12, 3))
+    mesh = SimpleNamespace(positions=positions, triangles=triangles)
+    member_triangle, member_chart = np.array([0, 1, 1, 5, 11, 3]), np.array([0, 0, 2, 2, 2, 3])
+    centres = _chart_centres(mesh, member_triangle, member_chart, 5)
+    triangle_centre = positions[triangles].mean(axis=1)
+    for chart in range(5):
+        members = member_triangle[member_chart == chart]
+        expected = triangle_centre[members].mean(axis=0) if len(members) else np.zeros(3)
+        np.testing.assert_allclose(centres[chart], expected, rtol=1e-12, atol=1e-15)
