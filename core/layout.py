@@ -12,7 +12,7 @@ import numpy as np
 from .atlas.chart_atlas import Atlas, expected_density, pack_charts
 from .atlas.raster import Texels, rasterise
 from .charts.clustering import Charts, cut_long_charts, make_injective, signed_axis_clusters
-from .charts.coarse import coarse_charts, wants_proxy
+from .charts.coarse import coarse_charts, proxy_cell_texels, wants_proxy
 from .errors import SeamlessAOError
 from .mesh.adjacency import face_adjacency
 from .mesh.triangle_mesh import MeshReport, TriangleMesh, require_faces
@@ -45,7 +45,7 @@ class Layout:
         return self.part_of_triangle[self.atlas.member_triangle[self.texels.member[selection]]]
 
 
-def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padding=4):
+def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padding=4, rays=None):
     """Charts, atlas and texels for one or several meshes (one shared image).
 
     Parameters
@@ -57,6 +57,8 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     density : float or None
         Texels per object unit; overrides ``image_size``.
     padding : int, texels
+    rays : int, optional, the rays per texel the bake will cast (a proxy's cubes are finer for many,
+        :func:`.charts.coarse.proxy_cell_texels`)
 
     Returns
     -------
@@ -76,7 +78,7 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     if len(meshes) == 1 and wants_proxy(mesh, compare_angle, size, density):
         # far more triangles than texels: charts made at the scale the image shows (charts/coarse.py)
         charts, topology = coarse_charts(mesh, compare_angle, size, density, SEPARATION_TEXELS, longest_texels,
-                                         timings)
+                                         timings, proxy_cell_texels(mesh, compare_angle, rays, size, density))
     else:
         start = time.perf_counter()
         topology = face_adjacency(mesh)

@@ -149,7 +149,7 @@ class BakePipeline:
                 self.meshes, settings.compare_angle,
                 image_size=settings.image_size if settings.size_mode == "IMAGE_SIZE" else None,
                 density=settings.texel_density if settings.size_mode == "DENSITY" else None,
-                padding=settings.padding)
+                padding=settings.padding, rays=settings.rays)
             self.check_memory(layout)
             yield 0.15, "Preparing rays"
             for index, (mesh, matrix) in enumerate(zip(self.meshes, self.matrices)):

@@ -6,7 +6,9 @@ import pytest
 import meshes
 from layout_checks import check_lookups, check_texels_finite, overlapping_pairs
 from seamless_ao.core.charts.clustering import make_injective, signed_axis_clusters
-from seamless_ao.core.charts.coarse import wants_proxy
+from seamless_ao.core.charts.coarse import (FINE_PROXY_CELL_TEXELS, FINE_PROXY_FROM_RAYS, PROXY_CELL_TEXELS,
+                                            PROXY_FROM_TRIANGLES_PER_TEXEL, proxy_cell_texels, triangles_per_texel,
+                                            wants_proxy)
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.mesh.adjacency import face_adjacency
 from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
@@ -51,6 +53,30 @@ def test_pieces_are_triangles_joined_through_corners_at_one_position():
     together, _ = TriangleMesh.concatenate(parts)
     assert len(set(together.vertex_piece.tolist())) == 2
     assert len(set(vertex_pieces(together.positions, together.triangles).tolist())) == 1
+
+
+def test_the_proxy_is_finer_for_many_rays_where_the_mesh_is_that_much_finer_still():
+    """Few rays (or not known): PROXY_CELL_TEXELS cubes.  From FINE_PROXY_FROM_RAYS rays, FINE_PROXY_CELL_TEXELS
+    cubes, but only where the mesh has as many triangles per cube of that size as the proxy's threshold asks of
+    the coarser ones; a mesh only just fine enough for a proxy keeps the coarser cubes."""
+    mesh, _ = _head_and_eye()
+    finer = (PROXY_CELL_TEXELS / FINE_PROXY_CELL_TEXELS) ** 2
+    fine_size = next(size for size in (64, 48, 32) if triangles_per_texel(mesh, 60.0, size) >=
+                     PROXY_FROM_TRIANGLES_PER_TEXEL * finer)
+    coarse_size = next(size for size in range(64, 512, 8)
+                       if PROXY_FROM_TRIANGLES_PER_TEXEL <= triangles_per_texel(mesh, 60.0, size) <
+                       PROXY_FROM_TRIANGLES_PER_TEXEL * finer)
+    assert wants_proxy(mesh, 60.0, image_size=coarse_size)
+    assert proxy_cell_texels(mesh, 60.0, FINE_PROXY_FROM_RAYS, fine_size) == FINE_PROXY_CELL_TEXELS
+    assert proxy_cell_texels(mesh, 60.0, FINE_PROXY_FROM_RAYS - 1, fine_size) == PROXY_CELL_TEXELS
+    assert proxy_cell_texels(mesh, 60.0, None, fine_size) == PROXY_CELL_TEXELS
+    assert proxy_cell_texels(mesh, 60.0, FINE_PROXY_FROM_RAYS, coarse_size) == PROXY_CELL_TEXELS
+    # the finer proxy keeps the promises too, and its charts differ from the coarser one's
+    fine = build_layout(mesh, image_size=fine_size, rays=FINE_PROXY_FROM_RAYS)
+    assert max(_far_overlaps(mesh, fine.charts, fine.atlas.density)) <= 1.5
+    check_lookups(fine, np.random.default_rng(1))
+    coarse = build_layout(mesh, image_size=fine_size)
+    assert not np.array_equal(fine.charts.chart_of_face, coarse.charts.chart_of_face)
 
 
 def test_a_fine_mesh_at_a_small_image_is_laid_out_on_its_proxy_and_keeps_every_promise():
