@@ -117,3 +117,22 @@ def test_rim_distance_is_the_distance_to_the_nearest_side_written_out_side_by_si
     found = _rim_distance(mesh, triangle, tuple(bary.T))
     assert np.allclose(found, expected, rtol=1e-9, atol=1e-12)
     assert (found[::7] <= 1e-12).all()
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_rim_triangles_count_each_side_both_ways_round(seed):
+    """Against the definition, side by side: a side is inside when exactly two sides join its two corners and
+    they run opposite ways.  Corners drawn from a few keys make shared, folded, tripled and pointless sides; one
+    case has keys near 2**40, too large for two of them to fold into one int64 key."""
+    rng = np.random.default_rng(seed)
+    corner = rng.integers(0, 9, (60, 3))
+    if seed == 3:
+        corner = corner * (1 << 40) + 7
+    uses = {}
+    for a, b in zip(corner.ravel(), np.roll(corner, -1, axis=1).ravel()):
+        uses.setdefault((min(a, b), max(a, b)), []).append((a < b, a > b))
+    inside = [[a != b and len(uses[min(a, b), max(a, b)]) == 2 and
+               uses[min(a, b), max(a, b)][0] != uses[min(a, b), max(a, b)][1]
+               for a, b in zip(row, np.roll(row, -1))] for row in corner]
+    assert np.array_equal(rim_triangles(corner), ~np.array(inside).all(axis=1))
+    assert len(rim_triangles(corner[:0])) == 0
