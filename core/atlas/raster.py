@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..arrays.geometry2d import band_x_extent, closest_barycentric, corner_max, corner_min, point_keys, triangle_score
+from ..arrays.geometry2d import (band_x_extent, box_holds_texel_centre, closest_barycentric, corner_max, corner_min,
+                                 point_keys, triangle_score)
 from ..arrays.graph import index_in_runs, index_type, sort_order
 from ..arrays.grid import neighbour_texels, neighbour_values
 
@@ -196,34 +197,36 @@ def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel
 
 def _draw_triangles(member_map, kind, triangle_uv, live, width, height, rim):
     """Write the covered and near texels of triangles ``live`` into ``member_map`` and ``kind`` (w * h,)
-    (:func:`rasterise_triangles`); what it works with (about 200 bytes a triangle) goes on return, before
+    (:func:`rasterise_triangles`); what it works with (about 200 bytes a drawn triangle) goes on return, before
     the padding grows."""
-    uv = triangle_uv[live]
     if rim is None:
-        rim = rim_triangles(point_keys(uv.reshape(-1, 2)).reshape(-1, 3))
+        rim = rim_triangles(point_keys(triangle_uv[live].reshape(-1, 2)).reshape(-1, 3))
 
     # Covered texels: every centre inside a triangle (a centre exactly on a
     # shared edge goes to one of the two; both are the same surface there).
+    # Only a triangle whose box holds a texel centre can cover one: at a
+    # million triangles and 256² about one in twenty-five.
+    drawn = live[box_holds_texel_centre(triangle_uv, live)]
+    uv = triangle_uv[drawn]
     row_member, row_y, x0, x1 = covered_rows(uv, height)
+    del uv
     c0 = np.clip(np.ceil(x0 - 0.5), 0, width).astype(np.int64)
     c1 = np.clip(np.floor(x1 - 0.5), -1, width - 1).astype(np.int64)
     del x0, x1
     for texel, owner in expand_spans(row_y, c0, c1, row_member, width):
-        member_map[texel] = live[owner]
+        member_map[texel] = drawn[owner]
         kind[texel] = COVERED
     del row_member, row_y, c0, c1
 
     # Near texels: centres within one texel of a rim triangle that no
     # triangle covers; the closest triangle wins.
-    rim_member = np.flatnonzero(rim)
-    rim_uv = uv[rim_member]
+    rim_triangle = live[np.flatnonzero(rim)]
+    rim_uv = triangle_uv[rim_triangle]
     y0 = np.clip(np.ceil(corner_min(rim_uv)[:, 1] - 1.5), 0, height).astype(np.int64)
     y1 = np.clip(np.floor(corner_max(rim_uv)[:, 1] + 0.5), -1, height - 1).astype(np.int64)
-    del rim_uv
     row_member, row_y = _rows(y0, y1)
-    row_member = rim_member[row_member]
     centre_y = row_y + 0.5
-    near_low, near_high = band_x_extent(uv[row_member], centre_y - 1.0, centre_y + 1.0)
+    near_low, near_high = band_x_extent(rim_uv[row_member], centre_y - 1.0, centre_y + 1.0)
     n0 = np.clip(np.ceil(near_low - 1.5), 0, width).astype(np.int64)
     n1 = np.clip(np.floor(near_high + 0.5), -1, width - 1).astype(np.int64)
     winners = []
@@ -231,13 +234,13 @@ def _draw_triangles(member_map, kind, triangle_uv, live, width, height, rim):
         free = member_map[texel] < 0
         texel, owner = texel[free], owner[free]
         centre = np.stack([texel % width + 0.5, texel // width + 0.5], axis=1)
-        score = triangle_score(uv[owner], centre)
+        score = triangle_score(rim_uv[owner], centre)
         keep = score > -np.inf
         winners.append(_best_per_texel(texel[keep], score[keep], owner[keep]))
     if winners:
         texel, score, owner = (np.concatenate(column) for column in zip(*winners))
         texel, _, owner = _best_per_texel(texel, score, owner)
-        member_map[texel] = live[owner]
+        member_map[texel] = rim_triangle[owner]
         kind[texel] = NEAR
 
 

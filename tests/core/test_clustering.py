@@ -283,6 +283,22 @@ def test_project_reads_the_chart_plane_basis_and_one_axis_reads_the_same_bit_for
     assert np.array_equal(fast_uv, uv) and np.array_equal(fast_depth, depth)
 
 
+def test_project_corners_block_by_block_reads_what_project_reads_of_the_corners(monkeypatch):
+    """Corners read from the vertices 7 triangles at a time (blocks of 7 over 40, the last one short) are the
+    projection of the triangles' corners to the bit, for mixed signed axes and for one axis given."""
+    from seamless_ao.core.charts import clustering
+    monkeypatch.setattr(clustering, "PROJECT_BLOCK", 7)
+    mesh = TriangleMesh.from_triangles(*meshes.uv_sphere(rings=6, segments=8))
+    rng = np.random.default_rng(5)
+    chosen = rng.integers(0, len(mesh.triangles), 40)
+    signed = rng.integers(0, 6, 40)
+    corners = mesh.positions[mesh.triangles[chosen]]
+    assert np.array_equal(clustering.project_corners(mesh, chosen, signed), project(corners, signed[:, None])[0])
+    on_y = 2 + signed % 2
+    assert np.array_equal(clustering.project_corners(mesh, chosen, on_y, 1), project(corners, on_y[:, None], 1)[0])
+    assert clustering.project_corners(mesh, chosen[:0], signed[:0]).shape == (0, 3, 2)
+
+
 def test_overwound_fans_finds_each_fan_past_a_full_turn_and_the_triangle_where_it_passes():
     """Fans of 4 to 40 triangles around separate vertices, each turning a given number of times (once exactly:
     not overwound; 1.2 to 2.3 times: overwound, no triangle ending exactly at 360 degrees).  For each

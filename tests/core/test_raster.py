@@ -93,6 +93,27 @@ def test_near_texels_from_the_rim_are_those_from_every_triangle(cell, jitter, ho
     assert sampled_distance(every, uv)[near].max() <= np.sqrt(2.0) + 1e-9
 
 
+@pytest.mark.parametrize("cell, snap", [(0.2, False), (0.2, True), (0.45, True), (2.5, False)])
+def test_triangles_whose_box_holds_no_texel_centre_are_left_undrawn_and_nothing_changes(monkeypatch, cell, snap):
+    """The covered pass skips triangles whose box holds no texel centre: the texels are those of drawing
+    every triangle, member for member, on grids far finer than a texel (most boxes hold none), with corners
+    moved onto texel centres (``snap``: crossings computed exactly at a corner) and coarser than a texel."""
+    from seamless_ao.core.atlas import raster
+    uv, _ = grid(40, 30, cell, 0.3, seed=int(cell * 10) + snap, holes=9)
+    if snap:
+        near_centre = np.abs(uv - (np.floor(uv) + 0.5)) < 0.05
+        uv = np.where(near_centre, np.floor(uv) + 0.5, uv)       # shared corners stay bit-identical
+    live = np.arange(len(uv))
+    size = int(np.ceil(uv.max())) + 4
+    skipping = rasterise_triangles(uv, live, size, size, padding=2)
+    assert not raster.box_holds_texel_centre(uv, live).all() or cell > 1
+    monkeypatch.setattr(raster, "box_holds_texel_centre", lambda triangles, chosen: np.ones(len(chosen), dtype=bool))
+    drawing_all = rasterise_triangles(uv, live, size, size, padding=2)
+    for name in ("index", "member", "kind", "ring"):
+        assert np.array_equal(getattr(skipping, name), getattr(drawing_all, name)), name
+    assert (skipping.kind == 0).sum() > 40
+
+
 def test_rim_distance_is_the_distance_to_the_nearest_side_written_out_side_by_side():
     """The texel points moved off a crease are those closer to their triangle's border than the inset;
     the distance comes from each corner's height, checked against point-to-segment distances."""
