@@ -12,7 +12,7 @@ import numpy as np
 from .atlas.chart_atlas import Atlas, expected_density, pack_charts
 from .atlas.raster import Texels, rasterise
 from .charts.clustering import Charts, cut_long_charts, make_injective, signed_axis_clusters
-from .charts.coarse import coarse_charts, proxy_cell_texels, wants_proxy
+from .charts.coarse import coarse_charts, proxy_cell_texels
 from .errors import SeamlessAOError
 from .mesh.adjacency import face_adjacency
 from .mesh.triangle_mesh import MeshReport, TriangleMesh, require_faces
@@ -75,10 +75,11 @@ def build_layout(meshes, compare_angle=60.0, image_size=1024, density=None, padd
     # no chart longer than a quarter of the image at the expected density (charts are never rotated)
     longest_texels = image_size / 4 if density is None else LONGEST_CHART_TEXELS
     size = image_size if density is None else None
-    if len(meshes) == 1 and wants_proxy(mesh, compare_angle, size, density):
+    cell_texels = proxy_cell_texels(mesh, compare_angle, rays, size, density) if len(meshes) == 1 else None
+    if cell_texels is not None:
         # far more triangles than texels: charts made at the scale the image shows (charts/coarse.py)
         charts, topology = coarse_charts(mesh, compare_angle, size, density, SEPARATION_TEXELS, longest_texels,
-                                         timings, proxy_cell_texels(mesh, compare_angle, rays, size, density))
+                                         timings, cell_texels)
     else:
         start = time.perf_counter()
         topology = face_adjacency(mesh)

@@ -89,19 +89,19 @@ def triangles_per_texel(mesh, compare_angle, image_size=None, density=None):
     return live / max(expected_texels(mesh, compare_angle, image_size, density), 1.0)
 
 
-def wants_proxy(mesh, compare_angle, image_size=None, density=None):
-    """True where ``mesh`` (one mesh, not several baked together) has at least
-    :data:`PROXY_FROM_TRIANGLES_PER_TEXEL` live triangles per texel it is expected to cover."""
-    return triangles_per_texel(mesh, compare_angle, image_size, density) >= PROXY_FROM_TRIANGLES_PER_TEXEL
+def proxy_cell_texels(mesh, compare_angle, rays=None, image_size=None, density=None):
+    """Side in texels of the cubes of the proxy ``mesh`` (one mesh, not several baked together) is laid out on
+    for a bake of ``rays`` rays per texel (None: not known), or None where it is laid out whole.
 
-
-def proxy_cell_texels(mesh, compare_angle, rays, image_size=None, density=None):
-    """Side of the proxy's cubes in texels for a bake of ``rays`` rays per texel (None: not known):
-    :data:`FINE_PROXY_CELL_TEXELS` from :data:`FINE_PROXY_FROM_RAYS` rays where the mesh is that much finer,
-    else :data:`PROXY_CELL_TEXELS`."""
+    A proxy from :data:`PROXY_FROM_TRIANGLES_PER_TEXEL` live triangles per texel the layout is expected to cover
+    (:func:`triangles_per_texel`, worked out once); its cubes :data:`FINE_PROXY_CELL_TEXELS` wide from
+    :data:`FINE_PROXY_FROM_RAYS` rays where the mesh is that much finer still, else :data:`PROXY_CELL_TEXELS`.
+    """
+    per_texel = triangles_per_texel(mesh, compare_angle, image_size, density)
+    if per_texel < PROXY_FROM_TRIANGLES_PER_TEXEL:
+        return None
     finer = (PROXY_CELL_TEXELS / FINE_PROXY_CELL_TEXELS) ** 2
-    if rays is not None and rays >= FINE_PROXY_FROM_RAYS and triangles_per_texel(
-            mesh, compare_angle, image_size, density) >= PROXY_FROM_TRIANGLES_PER_TEXEL * finer:
+    if rays is not None and rays >= FINE_PROXY_FROM_RAYS and per_texel >= PROXY_FROM_TRIANGLES_PER_TEXEL * finer:
         return FINE_PROXY_CELL_TEXELS
     return PROXY_CELL_TEXELS
 

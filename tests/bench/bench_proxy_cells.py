@@ -39,22 +39,18 @@ LAYOUTS = [("proxy, {:g}-texel cubes".format(coarse.PROXY_CELL_TEXELS), coarse.P
 def forced_layout(cell):
     """Make every bake lay out on a proxy of ``cell``-texel cubes (None: on the whole mesh) until undone; returns
     the undo."""
-    original = (layout.wants_proxy, layout.proxy_cell_texels)
-    layout.wants_proxy = lambda *args, **kwargs: cell is not None
+    original = layout.proxy_cell_texels
     layout.proxy_cell_texels = lambda *args, **kwargs: cell
 
     def undo():
-        layout.wants_proxy, layout.proxy_cell_texels = original
+        layout.proxy_cell_texels = original
     return undo
 
 
 def rule_takes(mesh, quality):
     """The label of the layout the bake's own rule takes for ``quality`` on a TriangleMesh."""
     size, rays = PRESETS[quality]
-    angle = BakeSettings().compare_angle
-    if not coarse.wants_proxy(mesh, angle, image_size=size):
-        return LAYOUTS[2][0]
-    cell = coarse.proxy_cell_texels(mesh, angle, rays, image_size=size)
+    cell = coarse.proxy_cell_texels(mesh, BakeSettings().compare_angle, rays, image_size=size)
     return next(label for label, layout_cell in LAYOUTS if layout_cell == cell)
 
 

@@ -7,8 +7,7 @@ import meshes
 from layout_checks import check_lookups, check_texels_finite, overlapping_pairs
 from seamless_ao.core.charts.clustering import make_injective, signed_axis_clusters
 from seamless_ao.core.charts.coarse import (FINE_PROXY_CELL_TEXELS, FINE_PROXY_FROM_RAYS, PROXY_CELL_TEXELS,
-                                            PROXY_FROM_TRIANGLES_PER_TEXEL, proxy_cell_texels, triangles_per_texel,
-                                            wants_proxy)
+                                            PROXY_FROM_TRIANGLES_PER_TEXEL, proxy_cell_texels, triangles_per_texel)
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.mesh.adjacency import face_adjacency
 from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
@@ -66,7 +65,7 @@ def test_the_proxy_is_finer_for_many_rays_where_the_mesh_is_that_much_finer_stil
     coarse_size = next(size for size in range(64, 512, 8)
                        if PROXY_FROM_TRIANGLES_PER_TEXEL <= triangles_per_texel(mesh, 60.0, size) <
                        PROXY_FROM_TRIANGLES_PER_TEXEL * finer)
-    assert wants_proxy(mesh, 60.0, image_size=coarse_size)
+    assert proxy_cell_texels(mesh, 60.0, None, coarse_size) == PROXY_CELL_TEXELS
     assert proxy_cell_texels(mesh, 60.0, FINE_PROXY_FROM_RAYS, fine_size) == FINE_PROXY_CELL_TEXELS
     assert proxy_cell_texels(mesh, 60.0, FINE_PROXY_FROM_RAYS - 1, fine_size) == PROXY_CELL_TEXELS
     assert proxy_cell_texels(mesh, 60.0, None, fine_size) == PROXY_CELL_TEXELS
@@ -81,8 +80,8 @@ def test_the_proxy_is_finer_for_many_rays_where_the_mesh_is_that_much_finer_stil
 
 def test_a_fine_mesh_at_a_small_image_is_laid_out_on_its_proxy_and_keeps_every_promise():
     mesh, vertex_piece = _head_and_eye()
-    assert wants_proxy(mesh, 60.0, image_size=64)
-    assert not wants_proxy(mesh, 60.0, image_size=512)
+    assert proxy_cell_texels(mesh, 60.0, image_size=64) == PROXY_CELL_TEXELS
+    assert proxy_cell_texels(mesh, 60.0, FINE_PROXY_FROM_RAYS, image_size=512) is None      # laid out whole
     layout = build_layout(mesh, image_size=64)
     charts = layout.charts
     # the eye is closer to the head than a proxy cube, yet no chart holds faces of both
