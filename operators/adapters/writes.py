@@ -12,6 +12,7 @@ import os
 import bpy
 import numpy as np
 
+from ...core.arrays.reduce import put_pairs
 from ...core.export.png import encode_png
 from ...core.keys import (AO_LAYERS, GROUP_VERSION, HELPER_KEY, IMAGE_KEY, MATERIAL_KEY, OURS_KEY, SAVE_COPY,
                           STACK_MODIFIER, VERSION_KEY)
@@ -27,7 +28,7 @@ def corner_uv(corner_count, loops, axis_uv):
     corners, ``loops`` (t, 3) saying which corner each triangle corner is."""
     per_corner = np.zeros((3, corner_count, 2), dtype=np.float32)
     for axis in range(3):
-        per_corner[axis][loops.ravel()] = axis_uv[axis].reshape(-1, 2)
+        put_pairs(per_corner[axis], loops, axis_uv[axis])
     return per_corner
 
 
@@ -127,7 +128,7 @@ class Transaction:
         render = next((uv.name for uv in layers if uv.active_render), None)
         for axis, name in enumerate(AO_LAYERS):
             uv = np.zeros((len(mesh.loops), 2), dtype=np.float32)
-            uv[loops.ravel()] = axis_uv[axis].reshape(-1, 2)
+            put_pairs(uv, loops, axis_uv[axis])
             layer = layers.get(name)
             if layer is None:
                 layer = layers.new(name=name, do_init=False)
