@@ -299,6 +299,22 @@ def test_project_corners_block_by_block_reads_what_project_reads_of_the_corners(
     assert clustering.project_corners(mesh, chosen[:0], signed[:0]).shape == (0, 3, 2)
 
 
+def test_axis_cosines_are_the_product_with_the_axes_and_pick_the_same_axis():
+    """Written a column at a time, the cosines equal ``vectors @ AXES.T`` (zeros' signs aside) and their argmax
+    picks the same signed axis, ties between a zero and its negation included (vectors on a plane or an axis)."""
+    from seamless_ao.core.charts.clustering import axis_cosines
+    rng = np.random.default_rng(11)
+    vectors = rng.normal(0, 1, (300, 3)) * 10.0 ** rng.integers(-5, 5, (300, 1))
+    vectors[:100, rng.integers(0, 3, 100)] = 0.0
+    vectors[100:120] = np.eye(3)[rng.integers(0, 3, 20)] * rng.choice([-1.0, 1.0], (20, 1))
+    vectors[120:125] = 0.0
+    product = vectors @ AXES.T
+    cosines = axis_cosines(vectors)
+    assert cosines.shape == (300, 6) and np.array_equal(cosines, product)
+    assert np.array_equal(np.argmax(cosines, axis=1), np.argmax(product, axis=1))
+    assert axis_cosines(np.zeros((0, 3))).shape == (0, 6)
+
+
 def test_overwound_fans_finds_each_fan_past_a_full_turn_and_the_triangle_where_it_passes():
     """Fans of 4 to 40 triangles around separate vertices, each turning a given number of times (once exactly:
     not overwound; 1.2 to 2.3 times: overwound, no triangle ending exactly at 360 degrees).  For each
