@@ -18,7 +18,9 @@ the ``Atlas`` started (Linux lists a process's threads under
 ``/proc/self/task``), and before the caller lets go of the atlas waits,
 briefly, until each one is asleep.  Where threads cannot be listed (Windows,
 macOS) it waits :data:`UNLISTED_WAIT` seconds instead, which narrows the
-window without closing it.
+window without closing it.  An atlas whose workers are still awake after
+:data:`MOST_WAIT` (preempted on a busy machine) is not let go of then: it is
+held (:data:`HELD`) until a later atlas finds its workers asleep.
 """
 
 import contextlib
@@ -33,6 +35,9 @@ MOST_WAIT = 0.5
 POLL = 0.0002
 #: Seconds waited where the threads cannot be listed.
 UNLISTED_WAIT = 0.002
+
+#: Atlases whose workers were still awake when their block was left: (atlas, thread ids), let go of later.
+HELD = []
 
 
 def thread_ids(tasks=TASKS):
@@ -78,6 +83,7 @@ def settled_atlas():
     by then its workers sleep where its destructor's signal reaches them (see the module)."""
     import xatlas  # bundled wheel; imported here, as in .packing, so the rest of core works without it
 
+    release_held()
     before = thread_ids()
     atlas = xatlas.Atlas()
     after = thread_ids()
@@ -85,4 +91,18 @@ def settled_atlas():
     try:
         yield atlas
     finally:
-        wait_until_asleep(workers)
+        if not wait_until_asleep(workers) and workers is not None:
+            # a worker still awake after MOST_WAIT (preempted on a machine busy with other work, say): letting
+            # go now could hang for good, so the atlas is held and let go of once its workers sleep
+            HELD.append((atlas, workers))
+
+
+def release_held(most=MOST_WAIT):
+    """Let go of each held atlas whose workers sleep now (waiting at most ``most`` seconds for each); returns
+    how many are still held."""
+    still = []
+    for atlas, workers in HELD:
+        if not wait_until_asleep(workers, most=most):
+            still.append((atlas, workers))
+    HELD[:] = still                                    # the others are let go of here
+    return len(still)

@@ -67,3 +67,23 @@ def test_leaving_the_block_waits_for_the_threads_the_atlas_started(monkeypatch):
     assert waited == [started] and started                     # xatlas starts a worker per core but one
     assert all(settled.thread_asleep(thread) for thread in started)
     assert atlas.atlas_count == 1
+
+
+@linux_only
+def test_an_atlas_whose_workers_stay_awake_is_held_until_they_sleep(monkeypatch):
+    """Letting go of an atlas whose worker is awake could hang for good: it is held, and let go of by the next
+    atlas once its workers sleep."""
+    assert settled.release_held() == 0
+    real = settled.wait_until_asleep
+    monkeypatch.setattr(settled, "wait_until_asleep", lambda threads, **kw: False)       # never asleep in time
+    before = settled.thread_ids()
+    with settled.settled_atlas() as atlas:
+        started = settled.thread_ids() - before
+        atlas.generate()
+    assert [(held, threads) for held, threads in settled.HELD] == [(atlas, started)]
+    del atlas
+    assert settled.release_held() == 1                    # still "awake": still held
+    monkeypatch.setattr(settled, "wait_until_asleep", real)
+    with settled.settled_atlas():                         # the next atlas lets go of it first
+        assert settled.HELD == []
+    assert all(settled.thread_asleep(thread) for thread in started)    # its worker ended with it, or sleeps
