@@ -4,7 +4,10 @@ The tests' own helper modules live in ``tests/support`` (meshes, scenes, the
 plain reference, checks); ``support/package.py`` imports ``bpy`` and the add-on.
 """
 
+import faulthandler
+import os
 import pathlib
+import subprocess
 import sys
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent / "support"))      # the tests' helper modules
@@ -12,6 +15,7 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent / "support"))    
 import bpy  # noqa: E402
 import pytest  # noqa: E402
 
+import watchdog  # noqa: E402
 from package import hard_exit, seamless_ao  # noqa: E402
 
 
@@ -30,7 +34,42 @@ def fresh_scene():
     yield bpy.context.scene
 
 
+#: Seconds one test may take before the session is taken for hung.  The slowest test takes about two
+#: minutes on a busy 2-core machine; a hang (a native thread that never wakes, say) would otherwise sit
+#: until CI's own limit ends the run with no word of where.  Past this, support/watchdog.py writes every
+#: thread's native and Python stacks and the test's id to the terminal and ends the session.  The
+#: environment variable SEAMLESS_AO_TEST_STALL sets another (tests/blender/test_session.py uses it).
+TEST_STALL = float(os.environ.get("SEAMLESS_AO_TEST_STALL", 900))
+
 _EXIT_STATUS = [0]
+_WATCHDOG = []
+
+
+def pytest_configure(config):
+    # a copy of the terminal's stderr, made while pytest's capture is suspended (a test's own stderr is
+    # captured into a file), for the stacks faulthandler writes when the watchdog asks
+    terminal = os.fdopen(os.dup(sys.__stderr__.fileno()), "w")
+    faulthandler.register(watchdog.STACK_SIGNAL, file=terminal, all_threads=True)
+    process = subprocess.Popen([sys.executable, watchdog.__file__, str(os.getpid()), str(TEST_STALL)],
+                               stdin=subprocess.PIPE, stdout=terminal, stderr=terminal)
+    _WATCHDOG[:] = [process, terminal]
+
+
+def _tell_watchdog(line):
+    try:
+        _WATCHDOG[0].stdin.write(line.encode("utf-8") + b"\n")
+        _WATCHDOG[0].stdin.flush()
+    except (OSError, IndexError):
+        pass                                     # no watchdog: the tests run as before
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    _tell_watchdog(item.nodeid)
+    try:
+        yield
+    finally:
+        _tell_watchdog("-")
 
 
 def pytest_sessionfinish(session, exitstatus):
