@@ -7,6 +7,7 @@ import pytest
 import meshes
 from accuracy import errors, reference_ao, shown_seamless, surface_samples
 from blender_scenes import add_object, mesh_from_arrays, sphere_over_plane
+from marks import heavy
 from package import seamless_ao
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
@@ -29,9 +30,10 @@ def near(mesh, triangle, bary, test):
 
 
 @pytest.mark.parametrize("scene, region", [
-    (sphere_over_plane, lambda p: (p[:, 2] < 0.01) & (np.hypot(p[:, 0], p[:, 1]) < 0.6)),    # contact shadow
-    (valley, lambda p: np.abs(p[:, 0]) < 0.08),                                                # the crease
-], ids=["contact-shadow", "crease"])
+    pytest.param(sphere_over_plane, lambda p: (p[:, 2] < 0.01) & (np.hypot(p[:, 0], p[:, 1]) < 0.6),
+                 id="contact-shadow"),
+    pytest.param(valley, lambda p: np.abs(p[:, 0]) < 0.08, marks=heavy, id="crease"),
+])
 def test_denoising_lowers_error_and_keeps_edges(scene, region, fresh_scene, addon):
     ob = scene()
     mesh, loops = read_triangles(ob.data)

@@ -9,6 +9,7 @@ from blender_checks import image_array, uv_layer_array
 from blender_scenes import add_object, mesh_from_arrays, mesh_from_faces
 from package import seamless_ao
 from hard_meshes import HARD_MESHES
+from marks import heavy
 from seamless_ao.core.layout import build_layout
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
@@ -60,6 +61,7 @@ def check_coverage(ob, mesh, loops, rng, count=3000):
                 assert computed[(pixel[:, 1] + dy) * atlas.width + pixel[:, 0] + dx].all(), "an uncovered point"
 
 
+@heavy
 @pytest.mark.parametrize("name", sorted(HARD_MESHES))
 def test_hard_mesh(name, addon, fresh_scene):
     ob = make(name)
@@ -70,6 +72,7 @@ def test_hard_mesh(name, addon, fresh_scene):
     check_accuracy(ob, report, mesh, loops)
 
 
+@heavy
 def test_a_spike_to_a_stray_vertex_leaves_the_rest_baked_as_without_it(addon, fresh_scene):
     """A thin triangle to a vertex 1,000 units out on a 2-unit sphere.  Before, it set the texel density of
     the whole image: the sphere got 2,052 texels of 512x512.  Now the spike's chart
@@ -121,6 +124,7 @@ def test_custom_split_normals_are_the_normals_baked_with(addon, fresh_scene):
     assert smooth.mean() > 4 * custom.mean() + 1e-3, smooth.mean()     # the normals do matter here
 
 
+@heavy
 def test_scale_invariance(addon, fresh_scene):
     """The same shape at 1e-3 and 1e4 units gives the same AO image within noise."""
     images = []
@@ -132,6 +136,7 @@ def test_scale_invariance(addon, fresh_scene):
     assert np.abs(images[0] - images[1]).mean() < 0.005
 
 
+@heavy
 def test_object_far_from_the_origin_matches_one_at_the_origin(addon, fresh_scene):
     near = make("huge")
     near.scale = (1e-4, 1e-4, 1e-4)
@@ -145,6 +150,7 @@ def test_object_far_from_the_origin_matches_one_at_the_origin(addon, fresh_scene
     assert np.abs(moved - reference).mean() < 0.005
 
 
+@heavy
 def test_vertex_data_far_from_the_origin_bakes_the_mesh_as_stored(addon, fresh_scene):
     """Issue 18, item 5: 1e5 in the vertex data itself (object at the origin).  float32 at 1e5 moves
     vertices by up to 0.004, so the reference is computed on the mesh as stored (read back, centred in
@@ -171,6 +177,7 @@ def test_same_seed_same_image_bit_for_bit(addon, fresh_scene):
     assert third.tobytes() != first.tobytes()
 
 
+@heavy
 @pytest.mark.parametrize("image_size", [448, 512, 544])
 def test_concave_corner_shows_no_bright_line(addon, fresh_scene, image_size):
     """Issue 18, item 8: along a clean 90-degree concave edge a texel just past one face's chart used to
@@ -196,6 +203,7 @@ def test_concave_corner_shows_no_bright_line(addon, fresh_scene, image_size):
         assert abs(bias) <= 0.025, (name, normals[0], bias)
 
 
+@heavy
 @pytest.mark.parametrize("image_size", [448, 512, 576])
 def test_rim_texels_hold_the_chart_own_ao(addon, fresh_scene, image_size):
     """Issue 30: two plates 10⁻⁴ apart see out through the slit from their exact rims only (AO about
@@ -288,6 +296,7 @@ def test_texels_of_a_transformed_object_get_the_ao_of_the_object_in_the_scene(na
     assert rmse <= 0.02 and worst <= 0.06, (name, rmse, worst)
 
 
+@heavy
 @pytest.mark.parametrize("name", sorted(TRANSFORMS))
 def test_transformed_object_shows_the_ao_of_the_object_in_the_scene(name, addon, fresh_scene):
     """What the material shows on the transformed torus, against the plain reference on the transformed
@@ -311,6 +320,7 @@ def test_transformed_object_shows_the_ao_of_the_object_in_the_scene(name, addon,
     assert rmse <= RMSE_LIMIT and p99 <= P99_LIMIT, (name, rmse, p99)
 
 
+@heavy
 @pytest.mark.parametrize("ray_caster", ["GEOMETRY_NODES", "CYCLES"])
 def test_a_box_pushed_into_another_leaves_no_dark_line_along_the_intersection(addon, fresh_scene, ray_caster):
     """Texels of either box inside the other are buried (AO 0, never seen); bilinear filtering at visible

@@ -125,17 +125,37 @@ def constants_page():
                       "relative to an object are fractions of its bounding-box diagonal.", "", *rows, ""])
 
 
+def heavy_cases(function, module_values):
+    """The ids of a test function's parametrized cases marked heavy (``pytest.param(..., marks=heavy, id=...)``),
+    in its decorators or in a module-level list they name (``module_values``: name -> value node)."""
+    cases = []
+    for decorator in function.decorator_list:
+        named = [module_values[node.id] for node in ast.walk(decorator)
+                 if isinstance(node, ast.Name) and node.id in module_values]
+        for call in (node for tree in [decorator, *named] for node in ast.walk(tree)):
+            if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) and call.func.attr == "param"):
+                continue
+            keywords = {keyword.arg: keyword.value for keyword in call.keywords}
+            if isinstance(keywords.get("marks"), ast.Name) and keywords["marks"].id == "heavy":
+                cases.append(ast.literal_eval(keywords["id"]))
+    return cases
+
+
 def test_marks():
     """``(heavy tests, tests that may skip with why)`` as (file, test) and (file, test, reason) lists."""
     heavy, may_skip = [], []
     for path in sorted((ROOT / "tests").glob("*/test_*.py")):
         tree = ast.parse(path.read_text())
+        module_values = {node.targets[0].id: node.value for node in tree.body
+                         if isinstance(node, ast.Assign) and len(node.targets) == 1
+                         and isinstance(node.targets[0], ast.Name)}
         for node in tree.body:
             if not isinstance(node, ast.FunctionDef) or not node.name.startswith("test_"):
                 continue
             where = str(path.relative_to(ROOT / "tests"))
             if any(isinstance(d, ast.Name) and d.id == "heavy" for d in node.decorator_list):
                 heavy.append((where, node.name))
+            heavy += [(where, "{}[{}]".format(node.name, case)) for case in heavy_cases(node, module_values)]
             for call in ast.walk(node):
                 if (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) and call.func.attr == "skip"
                         and isinstance(call.func.value, ast.Name) and call.func.value.id == "pytest"):
@@ -215,9 +235,13 @@ def tested_page():
     lines = ["# What is tested on which Blender", "",
              GENERATED.format("the Makefile, `requirements/` and the tests' marks (`tests/support/marks.py`)"), "",
              "`make test` runs the whole suite, {} test functions on arrays (`tests/core`) and {} on Blender data "
-             "(`tests/blender`), once on each of these `bpy` wheels:".format(counts["core"], counts["blender"]), "",
+             "(`tests/blender`), once on each of these `bpy` wheels: the first in the foreground, the others one "
+             "after another beside it (a session keeps about one core busy):".format(counts["core"], counts["blender"]),
+             "",
              *rows, "",
-             "Heavy tests run on Blender {}.{} only and are skipped on the others:".format(*HEAVY_BLENDER), ""]
+             "Heavy tests run on Blender {}.{} only and are skipped on the others: those of a minute or more, and "
+             "the accuracy checks beyond the cases that take each of Blender's paths (`tests/support/marks.py` says "
+             "why):".format(*HEAVY_BLENDER), ""]
     lines += ["- `{}`: `{}`".format(where, name) for where, name in heavy] or ["- none"]
     lines += ["", "Tests that skip, with the reason pytest reports, where the machine cannot run them:", ""]
     lines += ["- `{}`: `{}` ({})".format(where, name, why) for where, name, why in may_skip] or ["- none"]
