@@ -38,7 +38,7 @@ WHEELHOUSE ?= $(shell python3 -m pip cache dir 2>/dev/null || echo $(HOME)/.cach
 venv_dir = .venv/$(1)
 venv_python = .venv/$(1)/bin/python
 
-.PHONY: help setup demo batch test test-fast test-one test-real test-gui docs bench extension validate clean
+.PHONY: help setup demo batch test test-fast test-setup test-one test-real test-gui docs bench extension validate clean
 
 help:
 	@sed -n '3,11p' Makefile | sed 's/^# \{0,1\}//'
@@ -69,16 +69,32 @@ batch: .venv/5.0/.installed
 AVAILABLE = $(foreach v,$(BLENDERS),$(if $(call find_python,$(PYVER_$(v))),$(v)))
 MISSING = $(filter-out $(AVAILABLE),$(BLENDERS))
 
+# Every Blender's virtualenv and the shared tools are set up first, one after another.  Then the first
+# Blender's session (5.0, with the heavy tests) runs in the foreground while the others run one after
+# another beside it: a session keeps about one core busy and machines have two.  Their output is shown when
+# they end.  The real binary's tests (a window among them) come last, alone.
 test:
 	@available="$(strip $(AVAILABLE))"; missing="$(strip $(MISSING))"; \
 	$(foreach v,$(MISSING),echo "== Blender $(v): skipped: its bpy wheel needs Python $(PYVER_$(v)), which was not found (on PATH or in pyenv)" >&2;) \
 	if [ -n "$$missing" ] && [ -n "$${CI:-}" ]; then echo "error: CI tests every Blender of BLENDERS ($(BLENDERS)); install the missing Python" >&2; exit 1; fi; \
-	for v in $$available; do $(MAKE) --no-print-directory test-one BLENDER=$$v; done; \
+	for v in $$available; do $(MAKE) --no-print-directory test-setup BLENDER=$$v; done; \
+	set -- $$available; first="$${1:-}"; shift || true; rest="$$*"; side=""; log="$$(mktemp)"; status=0; \
+	if [ -n "$$rest" ]; then \
+	    echo "== Blender $$rest: beside Blender $$first, one after another (their output follows when they end)"; \
+	    ( for v in $$rest; do $(MAKE) --no-print-directory test-one BLENDER=$$v || exit 1; done ) > "$$log" 2>&1 & side=$$!; \
+	    trap 'kill $$side 2>/dev/null || true' EXIT; \
+	fi; \
+	if [ -n "$$first" ]; then $(MAKE) --no-print-directory test-one BLENDER=$$first || status=1; fi; \
+	if [ -n "$$side" ]; then wait $$side || status=1; trap - EXIT; cat "$$log"; fi; \
+	rm -f "$$log"; \
+	if [ $$status -ne 0 ]; then echo "error: a Blender's tests failed (above)" >&2; exit 1; fi; \
 	$(MAKE) --no-print-directory test-real; \
 	if [ -n "$$missing" ]; then echo "== Tested Blender $${available:-none}; skipped $$missing (no Python for it here)"; fi
 
 # Blender 5.0, which runs the heavy tests, also gets Dask for the farm tests (requirements/farm.txt).
-test-one: .venv/$(BLENDER)/.installed wheels/.downloaded .node/.installed $(if $(filter 5.0,$(BLENDER)),.venv/5.0/.farm)
+test-setup: .venv/$(BLENDER)/.installed wheels/.downloaded .node/.installed $(if $(filter 5.0,$(BLENDER)),.venv/5.0/.farm)
+
+test-one: test-setup
 	@echo "== Blender $(BLENDER): pytest"
 	$(call venv_python,$(BLENDER)) -m pytest tests --ignore=tests/real_blender $(PYTEST_ARGS)
 
