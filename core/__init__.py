@@ -64,9 +64,10 @@ module                              what it holds
 :mod:`.other_processes.batch_plan`  a batch without Blender data: assets, outputs, stamps
 :mod:`.other_processes.handoff`     a bake handed to another process, as files
 **shared helpers** (``core/arrays/``)
-:mod:`.arrays.graph`                components, runs, pairs and sorts over index arrays
+:mod:`.arrays.graph`                components, runs, pairs, sorts and scatters over index arrays
 :mod:`.arrays.geometry2d`           2D geometry on arrays of triangles and segments
 :mod:`.arrays.grid`                 passes over a texel's 8 neighbours
 :mod:`.arrays.reduce`               least, greatest and row lengths of narrow arrays, a column at a time
+:mod:`.arrays.blocks`               long arrays a block of rows at a time (small temporaries)
 ==================================  ===========================================
 """

@@ -6,6 +6,7 @@ points, and answers for all ``k`` at once; float64 throughout.
 
 import numpy as np
 
+from .blocks import row_blocks
 from .graph import scatter_rows
 
 
@@ -211,19 +212,17 @@ def triangle_angles(corners):
 def box_holds_texel_centre(triangles, chosen):
     """(k,) bool: whether the bounding box of each triangle ``chosen`` (k,) int of ``triangles`` (m, 3, 2) float64
     (texel coordinates) holds a texel centre, give or take :data:`BOX_SLACK` texels (crossings computed along a
-    side may round an ulp past its corners).  A block of :data:`BOX_BLOCK` triangles at a time: no copy of
-    every chosen triangle's corners (48 bytes each)."""
+    side may round an ulp past its corners).  A block of triangles at a time (:func:`.blocks.row_blocks`): no
+    copy of every chosen triangle's corners (48 bytes each)."""
     holds = np.empty(len(chosen), dtype=bool)
-    for start in range(0, len(chosen), BOX_BLOCK):
-        corners = triangles[chosen[start:start + BOX_BLOCK]]
+    for block in row_blocks(len(chosen)):
+        corners = triangles[chosen[block]]
         low, high = corner_min(corners), corner_max(corners)                  # (b, 2)
         inside = np.floor(high - (0.5 - BOX_SLACK)) >= np.ceil(low - (0.5 + BOX_SLACK))
-        holds[start:start + BOX_BLOCK] = inside[:, 0] & inside[:, 1]
+        holds[block] = inside[:, 0] & inside[:, 1]
     return holds
 
 
-#: Triangles :func:`box_holds_texel_centre` reads at a time.
-BOX_BLOCK = 1 << 16
 #: Texels a triangle's box is widened by before :func:`box_holds_texel_centre` asks whether it holds a centre.
 BOX_SLACK = 1e-6
 

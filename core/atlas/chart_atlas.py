@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..arrays.blocks import row_blocks
 from ..arrays.graph import index_type
 from ..charts.clustering import project_corners
 from ..errors import SeamlessAOError
@@ -315,11 +316,11 @@ def _largest_member(mesh, member_triangle, member_chart, chart_count, placed_cou
 
 def _apply(transforms, chart, points):
     """``points`` (m, k, 2), each moved by the affine transform (c, 2, 3) of its ``chart`` (m,) int, in place;
-    returns ``points``.  A block of members at a time: the temporaries stay a few MB, where the whole (m, k)
+    returns ``points``.  A block of members at a time (:func:`..arrays.blocks.row_blocks`): the temporaries stay a few MB, where the whole (m, k)
     at once allocated eight arrays of 36 MB at a million triangles (and this machine's fresh pages cost)."""
-    for start in range(0, len(points), _APPLY_BLOCK):
-        block = points[start:start + _APPLY_BLOCK]
-        t = transforms[chart[start:start + _APPLY_BLOCK]][:, None]                 # (b, 1, 2, 3)
+    for rows in row_blocks(len(points)):
+        block = points[rows]
+        t = transforms[chart[rows]][:, None]                                        # (b, 1, 2, 3)
         u, v = block[..., 0], block[..., 1]
         new_u = t[..., 0, 0] * u
         new_u += t[..., 0, 1] * v
@@ -331,9 +332,6 @@ def _apply(transforms, chart, points):
         block[..., 1] = new_v
     return points
 
-
-#: Members :func:`_apply` moves at a time.
-_APPLY_BLOCK = 1 << 16
 
 
 def _adopt_orphans(mesh, topology, charts):

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..arrays.blocks import row_blocks
 from ..arrays.geometry2d import group_boxes
 from ..arrays.graph import Adjacency, connected_components, group_starts, index_in_runs, scatter_rows
 from .overlap import FoldMemory, fold_conflicts
@@ -93,7 +94,7 @@ def project_corners(mesh, triangles, signed_axis, axis=None):
     ``project(mesh.corners[triangles], signed_axis[:, None], axis)[0]`` (the same values) without a (k, 3, 3)
     copy of every corner first (at a million triangles the copy took longer than the rest).
 
-    A block of :data:`PROJECT_BLOCK` triangles at a time: the gathers' index temporaries stay a few MB (the
+    A block of triangles at a time (:func:`..arrays.blocks.row_blocks`): the gathers' index temporaries stay a few MB (the
     whole (k, 3) at once allocated four of 34 MB at a million members, and fresh pages cost).
 
     Parameters
@@ -111,8 +112,7 @@ def project_corners(mesh, triangles, signed_axis, axis=None):
     signed_axis = np.broadcast_to(np.asarray(signed_axis), triangles.shape)
     flat = mesh.positions.ravel()
     uv = np.empty(triangles.shape + (3, 2))
-    for start in range(0, len(triangles), PROJECT_BLOCK):
-        block = slice(start, start + PROJECT_BLOCK)
+    for block in row_blocks(len(triangles)):
         corner_at = mesh.triangles[triangles[block]] * 3                      # (b, 3) into the flat positions
         signed = signed_axis[block]
         on_axis = signed // 2 if axis is None else axis
@@ -121,9 +121,6 @@ def project_corners(mesh, triangles, signed_axis, axis=None):
         out[..., 1] = flat[corner_at + np.reshape(_V_COMPONENT[on_axis], (-1, 1))] * _V_SIGN[signed][:, None]
     return uv
 
-
-#: Triangles :func:`project_corners` reads at a time.
-PROJECT_BLOCK = 1 << 16
 
 
 # The same bases as BASES, as component indices and signs (for speed).

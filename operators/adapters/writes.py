@@ -12,7 +12,7 @@ import os
 import bpy
 import numpy as np
 
-from ...core.arrays.reduce import put_pairs
+from ...core.arrays.graph import put_pairs
 from ...core.export.png import encode_png
 from ...core.keys import (AO_LAYERS, GROUP_VERSION, HELPER_KEY, IMAGE_KEY, MATERIAL_KEY, OURS_KEY, SAVE_COPY,
                           STACK_MODIFIER, VERSION_KEY)

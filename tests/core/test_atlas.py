@@ -7,6 +7,7 @@ import pytest
 
 import meshes
 from layout_checks import chart_kinds, check_layers_do_not_overlap, check_lookups, check_texels_finite, least_gap
+from seamless_ao.core.arrays import blocks
 from seamless_ao.core.atlas import chart_atlas
 from seamless_ao.core.atlas.chart_atlas import _apply, _chart_centres, _largest_member
 from seamless_ao.core.errors import SeamlessAOError
@@ -128,7 +129,7 @@ def test_large_charts_keep_the_padding_setting_free_between_them_and_not_much_mo
 
 def test_apply_moves_every_member_by_its_charts_transform_block_by_block(monkeypatch):
     """Blocks smaller than the members (and one left over): each point as ``a u + b v + c``, to the bit."""
-    monkeypatch.setattr(chart_atlas, "_APPLY_BLOCK", 7)
+    monkeypatch.setattr(blocks, "BLOCK_ROWS", 7)
     rng = np.random.default_rng(5)
     transforms, chart = rng.normal(size=(4, 2, 3)), rng.integers(0, 4, 30)
     points = rng.normal(size=(30, 3, 2))

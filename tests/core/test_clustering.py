@@ -5,6 +5,7 @@ import pytest
 
 import meshes
 from layout_checks import check_charts, overlaps_per_axis, surface_normals
+from seamless_ao.core.arrays import blocks
 from seamless_ao.core.mesh.adjacency import face_adjacency
 from seamless_ao.core.charts.clustering import AXES, BASES, cluster_faces, project, signed_axis_clusters
 from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
@@ -287,7 +288,7 @@ def test_project_corners_block_by_block_reads_what_project_reads_of_the_corners(
     """Corners read from the vertices 7 triangles at a time (blocks of 7 over 40, the last one short) are the
     projection of the triangles' corners to the bit, for mixed signed axes and for one axis given."""
     from seamless_ao.core.charts import clustering
-    monkeypatch.setattr(clustering, "PROJECT_BLOCK", 7)
+    monkeypatch.setattr(blocks, "BLOCK_ROWS", 7)
     mesh = TriangleMesh.from_triangles(*meshes.uv_sphere(rings=6, segments=8))
     rng = np.random.default_rng(5)
     chosen = rng.integers(0, len(mesh.triangles), 40)

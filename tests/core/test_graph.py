@@ -1,4 +1,5 @@
-"""core/arrays/graph.py: connected components against a plain search, sorting orders against numpy's lexsort."""
+"""core/arrays/graph.py: connected components against a plain search, sorting orders against numpy's lexsort,
+the scatter of pairs against numpy's assignment."""
 
 import numpy as np
 import pytest
@@ -93,3 +94,21 @@ def test_row_labels_number_the_distinct_rows_in_sorted_order(sorted_last):
     distinct = sorted({tuple(row) for row in rows.tolist()})
     assert labels.tolist() == [distinct.index(tuple(row)) for row in rows.tolist()]
     assert graph.row_labels(np.zeros(0, dtype=np.int64)).shape == (0,)
+
+
+def test_put_pairs_writes_what_numpy_assignment_writes_repeats_and_rounding_included():
+    """Pairs scattered as single 8-byte items equal numpy's row assignment bit for bit: float64 pairs rounded
+    to float32, repeated indices (the last pair kept), a (t, 3) index with (t, 3, 2) pairs (a mesh's corners),
+    NaN and -0.0; a target that is not C-contiguous (n, 2) float32 is refused."""
+    rng = np.random.default_rng(3)
+    index = rng.integers(0, 50, (40, 3))                             # repeats certain: 120 writes into 50
+    pairs = rng.normal(0, 1, (40, 3, 2)) * 10.0 ** rng.integers(-8, 8, (40, 3, 1))
+    pairs[0, 0] = (np.nan, -0.0)
+    expected = np.full((50, 2), 7.0, dtype=np.float32)
+    expected[index.ravel()] = pairs.reshape(-1, 2)
+    target = np.full((50, 2), 7.0, dtype=np.float32)
+    graph.put_pairs(target, index, pairs)
+    assert np.array_equal(target.view(np.uint32), expected.view(np.uint32))
+    for wrong in (np.zeros((50, 2)), np.zeros((50, 3), dtype=np.float32), np.zeros((2, 50), dtype=np.float32).T):
+        with pytest.raises(ValueError):
+            graph.put_pairs(wrong, index, pairs)

@@ -36,21 +36,3 @@ def test_row_length_is_numpys_norm_to_the_bit(scale):
     vectors = np.random.default_rng(7).normal(size=(1000, 3)) * scale
     assert np.array_equal(row_length(vectors).view(np.uint64), np.linalg.norm(vectors, axis=1).view(np.uint64))
 
-
-def test_put_pairs_writes_what_numpy_assignment_writes_repeats_and_rounding_included():
-    """Pairs scattered as single 8-byte items equal numpy's row assignment bit for bit: float64 pairs rounded
-    to float32, repeated indices (the last pair kept), a (t, 3) index with (t, 3, 2) pairs (a mesh's corners),
-    NaN and -0.0; a target that is not C-contiguous (n, 2) float32 is refused."""
-    from seamless_ao.core.arrays.reduce import put_pairs
-    rng = np.random.default_rng(3)
-    index = rng.integers(0, 50, (40, 3))                             # repeats certain: 120 writes into 50
-    pairs = rng.normal(0, 1, (40, 3, 2)) * 10.0 ** rng.integers(-8, 8, (40, 3, 1))
-    pairs[0, 0] = (np.nan, -0.0)
-    expected = np.full((50, 2), 7.0, dtype=np.float32)
-    expected[index.ravel()] = pairs.reshape(-1, 2)
-    target = np.full((50, 2), 7.0, dtype=np.float32)
-    put_pairs(target, index, pairs)
-    assert np.array_equal(target.view(np.uint32), expected.view(np.uint32))
-    for wrong in (np.zeros((50, 2)), np.zeros((50, 3), dtype=np.float32), np.zeros((2, 50), dtype=np.float32).T):
-        with pytest.raises(ValueError):
-            put_pairs(wrong, index, pairs)

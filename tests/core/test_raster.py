@@ -114,6 +114,18 @@ def test_triangles_whose_box_holds_no_texel_centre_are_left_undrawn_and_nothing_
     assert (skipping.kind == 0).sum() > 40
 
 
+def test_box_test_block_by_block_answers_as_one_block(monkeypatch):
+    """Blocks of 7 over the chosen triangles (the last one short) give each triangle the answer of one block."""
+    from seamless_ao.core.arrays import blocks
+    from seamless_ao.core.arrays.geometry2d import box_holds_texel_centre
+    uv, _ = grid(12, 9, 0.45, 0.3, seed=3, holes=0)
+    chosen = np.random.default_rng(2).permutation(len(uv))[:150]
+    whole = box_holds_texel_centre(uv, chosen)
+    monkeypatch.setattr(blocks, "BLOCK_ROWS", 7)
+    assert 150 % 7 and np.array_equal(box_holds_texel_centre(uv, chosen), whole) and 0 < whole.sum() < len(whole)
+    assert box_holds_texel_centre(uv, chosen[:0]).shape == (0,)
+
+
 def test_rim_distance_is_the_distance_to_the_nearest_side_written_out_side_by_side():
     """The texel points moved off a crease are those closer to their triangle's border than the inset;
     the distance comes from each corner's height, checked against point-to-segment distances."""

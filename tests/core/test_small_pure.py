@@ -9,6 +9,7 @@ from seamless_ao.core.rays.ao import settle_pilot
 from seamless_ao.core.budget import check_budget, estimated_bytes, planned_size
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.export.transfer import sample_repeat, texel_uv, vertex_average
+from seamless_ao.core.arrays import blocks
 from seamless_ao.core.arrays.graph import Adjacency, sort_order
 from seamless_ao.core.mesh.triangle_mesh import TriangleMesh, duplicate_triangle_count, sanitized_normals
 from seamless_ao.core.mesh.weld import weld_vertices
@@ -435,3 +436,9 @@ def test_duplicate_triangle_count_counts_repeats_of_a_vertex_set_in_any_order(ve
     assert expected >= 100
     assert duplicate_triangle_count(triangles) == expected
     assert duplicate_triangle_count(np.zeros((0, 3), dtype=np.int64)) == 0
+
+
+def test_row_blocks_cover_the_rows_in_order_once(monkeypatch):
+    monkeypatch.setattr(blocks, "BLOCK_ROWS", 4)
+    assert blocks.row_blocks(10) == [slice(0, 4), slice(4, 8), slice(8, 10)]
+    assert blocks.row_blocks(8) == [slice(0, 4), slice(4, 8)] and blocks.row_blocks(0) == []
