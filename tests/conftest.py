@@ -46,11 +46,11 @@ _WATCHDOG = []
 
 
 def pytest_configure(config):
-    # a copy of the terminal's stderr, made while pytest's capture is suspended (a test's own stderr is
-    # captured into a file), for the stacks faulthandler writes when the watchdog asks
     # inside a real Blender (tests/run.py) the session is one test of an outer session, which has its watchdog
     if bpy.app.binary_path:
         return
+    # a copy of the terminal's stderr, made while pytest's capture is suspended (a test's own stderr is
+    # captured into a file), for the stacks faulthandler writes when the watchdog asks; kept open in _WATCHDOG
     terminal = os.fdopen(os.dup(sys.__stderr__.fileno()), "w")
     faulthandler.register(watchdog.STACK_SIGNAL, file=terminal, all_threads=True)
     process = subprocess.Popen([sys.executable, watchdog.__file__, str(os.getpid()), str(TEST_STALL)],

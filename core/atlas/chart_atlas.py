@@ -316,8 +316,9 @@ def _largest_member(mesh, member_triangle, member_chart, chart_count, placed_cou
 
 def _apply(transforms, chart, points):
     """``points`` (m, k, 2), each moved by the affine transform (c, 2, 3) of its ``chart`` (m,) int, in place;
-    returns ``points``.  A block of members at a time (:func:`..arrays.blocks.row_blocks`): the temporaries stay a few MB, where the whole (m, k)
-    at once allocated eight arrays of 36 MB at a million triangles (and this machine's fresh pages cost)."""
+    returns ``points``.  A block of members at a time (:func:`..arrays.blocks.row_blocks`): the temporaries
+    stay a few MB, where the whole (m, k) at once allocated eight arrays of 36 MB at a million triangles (and
+    this machine's fresh pages cost)."""
     for rows in row_blocks(len(points)):
         block = points[rows]
         t = transforms[chart[rows]][:, None]                                        # (b, 1, 2, 3)
@@ -331,7 +332,6 @@ def _apply(transforms, chart, points):
         block[..., 0] = new_u
         block[..., 1] = new_v
     return points
-
 
 
 def _adopt_orphans(mesh, topology, charts):

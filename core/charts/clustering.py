@@ -94,8 +94,8 @@ def project_corners(mesh, triangles, signed_axis, axis=None):
     ``project(mesh.corners[triangles], signed_axis[:, None], axis)[0]`` (the same values) without a (k, 3, 3)
     copy of every corner first (at a million triangles the copy took longer than the rest).
 
-    A block of triangles at a time (:func:`..arrays.blocks.row_blocks`): the gathers' index temporaries stay a few MB (the
-    whole (k, 3) at once allocated four of 34 MB at a million members, and fresh pages cost).
+    A block of triangles at a time (:func:`..arrays.blocks.row_blocks`): the gathers' index temporaries stay a
+    few MB (the whole (k, 3) at once allocated four of 34 MB at a million members, and fresh pages cost).
 
     Parameters
     ----------
@@ -120,7 +120,6 @@ def project_corners(mesh, triangles, signed_axis, axis=None):
         out[..., 0] = flat[corner_at + np.reshape(_U_COMPONENT[on_axis], (-1, 1))] * _U_SIGN[signed][:, None]
         out[..., 1] = flat[corner_at + np.reshape(_V_COMPONENT[on_axis], (-1, 1))] * _V_SIGN[signed][:, None]
     return uv
-
 
 
 # The same bases as BASES, as component indices and signs (for speed).
