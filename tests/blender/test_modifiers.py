@@ -146,10 +146,10 @@ STACK_CASES = [
     "mirror + subdivision + bevel",
     "subdivision 1 in the viewport, 2 at render",
     "boolean with a hidden cutter",
-    pytest.param("array of three overlapping copies", marks=heavy, id="array of three overlapping copies"),
-    pytest.param("solidify on an open bowl", marks=heavy, id="solidify on an open bowl"),
-    pytest.param("triangulate", marks=heavy, id="triangulate"),
-    pytest.param("geometry nodes adding a block", marks=heavy, id="geometry nodes adding a block"),
+    pytest.param("array of three overlapping copies", marks=heavy),
+    pytest.param("solidify on an open bowl", marks=heavy),
+    pytest.param("triangulate", marks=heavy),
+    pytest.param("geometry nodes adding a block", marks=heavy),
 ]
 
 
@@ -210,7 +210,7 @@ def test_no_seam_along_the_mirror_plane(fresh_scene, addon):
     assert near.sum() >= 20 and jump.mean() <= 0.02 and jump.max() <= 0.08, (near.sum(), jump.mean(), jump.max())
 
 
-@pytest.mark.parametrize("viewport, render", [(1, 2), pytest.param(0, 3, marks=heavy, id="0-3")])
+@pytest.mark.parametrize("viewport, render", [(1, 2), pytest.param(0, 3, marks=heavy)])
 def test_the_viewport_shows_the_ao_whatever_its_subdivision_level(viewport, render, fresh_scene, addon):
     """Issue 51: Blender's default Subdivision is 1 in the viewport and 2 at render. The render's surface is
     baked; at viewport level 1 the viewport's surface (other faces, its vertices on the render's surface)

@@ -126,8 +126,9 @@ def constants_page():
 
 
 def heavy_cases(function, module_values):
-    """The ids of a test function's parametrized cases marked heavy (``pytest.param(..., marks=heavy, id=...)``),
-    in its decorators or in a module-level list they name (``module_values``: name -> value node)."""
+    """The ids of a test function's parametrized cases marked heavy (``pytest.param(..., marks=heavy)``), in its
+    decorators or in a module-level list they name (``module_values``: name -> value node).  An id is the
+    case's ``id=``, or pytest's own: its literal values joined by "-"."""
     cases = []
     for decorator in function.decorator_list:
         named = [module_values[node.id] for node in ast.walk(decorator)
@@ -137,7 +138,8 @@ def heavy_cases(function, module_values):
                 continue
             keywords = {keyword.arg: keyword.value for keyword in call.keywords}
             if isinstance(keywords.get("marks"), ast.Name) and keywords["marks"].id == "heavy":
-                cases.append(ast.literal_eval(keywords["id"]))
+                cases.append(ast.literal_eval(keywords["id"]) if "id" in keywords
+                             else "-".join(str(ast.literal_eval(value)) for value in call.args))
     return cases
 
 
