@@ -139,7 +139,7 @@ test-fast: .venv/5.0/.installed
 	touch $@
 
 # Every benchmark writes its page into docs/bench/; the last step assembles docs/benchmarks.md.
-BENCHES ?= bench_meshes report bench_fixed_cost bench_atlas_space bench_atlas bench_rays bench_million bench_texel_proxy bench_proxy_cells bench_clustering bench_assets bench_buried \
+BENCHES ?= bench_meshes report bench_fixed_cost bench_atlas_space bench_atlas bench_rays bench_million bench_held_memory bench_texel_proxy bench_proxy_cells bench_clustering bench_assets bench_buried \
            bench_concave bench_blotch bench_adaptive bench_weighted bench_conventions bench_memory bench_occluders bench_objects \
            bench_batch bench_farm bench_file_size bench_cycles_margin bench_cycles_engine bench_cycles_caster bench_rings bench_denoise bench_viewport bench_window
 

@@ -18,7 +18,7 @@ module                              what it holds
 :mod:`.keys`                        every name the add-on stores Blender data under
 :mod:`.errors`                      the two exceptions
 :mod:`.budget`                      the memory a bake will need, before it starts
-:mod:`.freed_memory`                memory a bake freed, handed back before Cycles takes its own
+:mod:`.freed_memory`                memory a big bake freed: held for its next stage, handed back before Cycles
 **mesh** (``core/mesh/``)
 :mod:`.mesh.triangle_mesh`          triangle meshes, normals, the mesh report
 :mod:`.mesh.weld`                   vertices at one position, or within a tolerance, made one

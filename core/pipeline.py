@@ -22,7 +22,7 @@ import numpy as np
 
 from .atlas.viewport_uv import surface_uv
 from .budget import check_budget, planned_size
-from .freed_memory import give_back_freed_memory
+from .freed_memory import freed_memory_held, give_back_freed_memory
 from .image.denoise import denoise
 from .image.fill import texel_image
 from .layout import Layout, build_layout
@@ -140,7 +140,12 @@ class BakePipeline:
         check_budget(self.settings, triangles, pixels, texels)
 
     def steps(self):
-        """Yield ``(fraction, message)`` after each step; the casters are freed however it ends."""
+        """Yield ``(fraction, message)`` after each step; the casters are freed however it ends, and the memory
+        one step frees is held for the next (:func:`.freed_memory.freed_memory_held`)."""
+        with freed_memory_held(sum(len(mesh.triangles) for mesh in self.meshes)):
+            yield from self._steps()
+
+    def _steps(self):
         settings = self.settings
         try:
             self.check_memory()

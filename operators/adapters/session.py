@@ -22,6 +22,7 @@ import numpy as np
 
 from ...core.atlas.viewport_uv import stands_off
 from ...core.errors import BakeCancelled, SeamlessAOError
+from ...core.freed_memory import freed_memory_held
 from ...core.keys import IMAGE_KEY
 from ...core.other_processes.handoff import outcome_numbers
 from ...core.pipeline import BakePipeline
@@ -117,23 +118,25 @@ class BakeSession:
         try:
             yield 0.0, "Reading meshes"
             meshes, self.baked, occluders = self._read_meshes()
-            if self.background:
-                outcome = yield from self._steps_in_background(meshes, occluders)
-                numbers = outcome.numbers
-            else:
-                # each part's occluders were read and culled to its ray reach in _read_meshes
-                triangle_meshes = [arrays.mesh() for arrays in meshes]
-                # the arrays as read are done with: their float32 corner normals alone are 36 MB a million
-                # triangles, held through the whole bake beside the mesh's own
-                meshes = None
-                self.pipeline = BakePipeline(triangle_meshes, self.matrices, self.settings,
-                                             caster_maker(self.settings), occluders, free_casters, self._shown())
-                yield from self.pipeline.steps()
-                outcome = self.pipeline.result
-                numbers = outcome_numbers(outcome)
-            yield 0.96, "Writing image, UV maps and materials"
-            check_unchanged(self.objects, self.fingerprints)
-            warnings = numbers["warnings"] + self._write(outcome)
+            # what the pipeline and the writes free, the next arrays reuse (core/freed_memory.py)
+            with freed_memory_held(sum(len(arrays.triangles) for arrays in meshes)):
+                if self.background:
+                    outcome = yield from self._steps_in_background(meshes, occluders)
+                    numbers = outcome.numbers
+                else:
+                    # each part's occluders were read and culled to its ray reach in _read_meshes
+                    triangle_meshes = [arrays.mesh() for arrays in meshes]
+                    # the arrays as read are done with: their float32 corner normals alone are 36 MB a million
+                    # triangles, held through the whole bake beside the mesh's own
+                    meshes = None
+                    self.pipeline = BakePipeline(triangle_meshes, self.matrices, self.settings,
+                                                 caster_maker(self.settings), occluders, free_casters, self._shown())
+                    yield from self.pipeline.steps()
+                    outcome = self.pipeline.result
+                    numbers = outcome_numbers(outcome)
+                yield 0.96, "Writing image, UV maps and materials"
+                check_unchanged(self.objects, self.fingerprints)
+                warnings = numbers["warnings"] + self._write(outcome)
             self.report = BakeReport(
                 objects=[ob.name for ob in self.objects], image=self.image_name,
                 seconds=time.perf_counter() - self.started, warnings=warnings,

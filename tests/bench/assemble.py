@@ -15,7 +15,8 @@ import re
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PAGES = ROOT / "docs" / "bench"
 #: The order of the pages; any other page follows, by name.
-ORDER = ["bench_meshes", "report", "bench_fixed_cost", "bench_atlas", "bench_rays", "bench_million", "bench_texel_proxy", "bench_proxy_cells", "bench_clustering", "bench_assets", "bench_buried",
+ORDER = ["bench_meshes", "report", "bench_fixed_cost", "bench_atlas", "bench_rays", "bench_million", "bench_held_memory",
+         "bench_texel_proxy", "bench_proxy_cells", "bench_clustering", "bench_assets", "bench_buried",
          "bench_concave", "bench_blotch", "bench_adaptive", "bench_weighted", "bench_conventions", "bench_memory",
          "bench_occluders", "bench_objects", "bench_batch", "bench_cycles_margin"]
 

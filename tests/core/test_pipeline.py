@@ -1,6 +1,8 @@
 """The whole bake on arrays (core/pipeline.py): meshes and mathutils' BVH in, an image that shows the AO the
 plain reference computes out, with no Blender data at all."""
 
+import contextlib
+
 import numpy as np
 import pytest
 
@@ -104,6 +106,27 @@ def test_the_noise_reported_is_that_of_two_seeds_apart(rays):
     if rays > 1:                                            # what each texel's own rays alone would say
         sampled = first.computed & ~first.buried
         assert noise_estimate(first.texel_ao[sampled], first.ray_count[sampled]) > 1.6 * truth
+
+
+def test_a_bake_holds_what_it_frees_from_its_first_step_to_its_last(monkeypatch):
+    """core/freed_memory.py: the pipeline's steps run within a hold for its triangles, left when it ends."""
+    entered, left = [], []
+
+    @contextlib.contextmanager
+    def hold(triangles):
+        entered.append(triangles)
+        yield True
+        left.append(triangles)
+
+    monkeypatch.setattr("seamless_ao.core.pipeline.freed_memory_held", hold)
+    mesh = TriangleMesh.from_triangles(*meshes.torus(rings=24, segments=12), smooth=True)
+    pipeline = BakePipeline([mesh], [np.eye(4)], BakeSettings(rays=4, image_size=128), BVHCaster)
+    steps = pipeline.steps()
+    next(steps)
+    assert entered == [len(mesh.triangles)] and not left
+    for _ in steps:
+        pass
+    assert left == entered and pipeline.result is not None
 
 
 @pytest.mark.parametrize("make_caster, rays, gives_back", [(BVHCaster, 16, False), (WholeTexelCaster, 4, False),
