@@ -108,7 +108,7 @@ def sort_order(*keys, stable=True):
     folded_span = math.prod(spans)                          # Python ints: exact
     if folded_span >= 2**62:
         return np.lexsort(keys[::-1])
-    folded = keys[0].copy()
+    folded = keys[0].copy() if len(keys) > 1 else keys[0]         # one key is sorted as it is
     for key, span in zip(keys[1:], spans[1:]):
         folded *= span
         folded += key

@@ -113,10 +113,8 @@ def rasterise(atlas, mesh, padding=4):
 def _live_rim(atlas, mesh, live):
     """(k,) bool: :func:`rim_triangles` of members ``live`` (k,), a corner being one vertex in one chart
     (the (k, 3) keys go on return: 24 MB a million members)."""
-    corner = atlas.member_chart[live, None] * np.int64(len(mesh.positions)) + mesh.triangles[atlas.member_triangle[live]]
-    if corner.size and float(corner.max()) + 1.0 >= 2.0**31:     # rim_triangles sorts pairs of keys: keep them small
-        corner = np.unique(corner, return_inverse=True)[1].reshape(-1, 3)
-    return rim_triangles(corner)
+    return rim_triangles(atlas.member_chart[live, None] * np.int64(len(mesh.positions))
+                         + mesh.triangles[atlas.member_triangle[live]])
 
 
 def rim_triangles(corner_key):
@@ -131,7 +129,7 @@ def rim_triangles(corner_key):
 
     Parameters
     ----------
-    corner_key : (k, 3) int
+    corner_key : (k, 3) int, >= 0
         Corners with equal keys are the same 2D point (e.g. one vertex in one chart).
 
     Returns
@@ -139,18 +137,27 @@ def rim_triangles(corner_key):
     (k,) bool
     """
     corner_key = np.asarray(corner_key, dtype=np.int64)
+    if corner_key.size and int(corner_key.max()) >= 2**31:       # a side's key is two corners' in one int64
+        corner_key = np.unique(corner_key, return_inverse=True)[1].reshape(-1, 3)
     start = corner_key.ravel()
     end = np.roll(corner_key, -1, axis=1).ravel()
-    low, high = np.minimum(start, end), np.maximum(start, end)
-    order = sort_order(low, high, stable=False)        # a run of one side is judged whatever its order
-    low, high, forward = low[order], high[order], (start < end)[order]
-    same_next = (low[1:] == low[:-1]) & (high[1:] == high[:-1])
-    pair = np.zeros(len(order), dtype=bool)
+    # one key a side, whichever way it runs; a side of one point (start == end) runs neither way, so it never
+    # makes a pair.  As few arrays of all sides as will do: inside a bake, making and faulting in each took
+    # longer than the sort (rim 0.85 s against 0.26 s at a million triangles)
+    side_key = np.minimum(start, end)
+    side_key *= int(corner_key.max(initial=0)) + 1
+    side_key += np.maximum(start, end)
+    forward = start < end
+    del start, end
+    order = sort_order(side_key, stable=False)         # a run of one side is judged whatever its order
+    side_key, forward = side_key[order], forward[order]
     # runs of exactly two, in opposite directions
-    alone_before = np.concatenate([[True], ~same_next[:-1]]) if len(same_next) else np.ones(0, dtype=bool)
-    alone_after = np.concatenate([~same_next[1:], [True]]) if len(same_next) else np.ones(0, dtype=bool)
-    two = same_next & alone_before & alone_after & (forward[1:] != forward[:-1]) & (low[1:] != high[1:])
-    pair[:-1] |= two
+    two = side_key[1:] == side_key[:-1]
+    two[1:] &= side_key[1:-1] != side_key[:-2]
+    two[:-1] &= side_key[2:] != side_key[1:-1]
+    two &= forward[1:] != forward[:-1]
+    pair = np.zeros(len(order), dtype=bool)
+    pair[:-1] = two
     pair[1:] |= two
     inside = np.empty(len(order), dtype=bool)
     inside[order] = pair
