@@ -42,7 +42,7 @@ from contextlib import contextmanager
 #: memory back (a 1M-triangle bake frees 160 to 290 MB between its stages: its peak is what bench_million watches).
 GIVE_BACK_FROM_TRIANGLES = 500_000
 #: While a bake of at least GIVE_BACK_FROM_TRIANGLES holds its freed memory (:func:`freed_memory_held`), blocks
-#: up to this many bytes come from the heap, and a heap top this large stays in it.
+#: up to this many bytes come from the heap, and a free heap top of up to twice it stays in it.
 HELD_BYTES = 1 << 30
 #: glibc's own ceiling for the mmap threshold it raises as a process frees big blocks (4 MiB per byte of a
 #: ``long``), which a bake's arrays take it to; the trim threshold follows at twice it.  What a held bake
