@@ -14,14 +14,11 @@ too.
 
 import argparse
 import contextlib
-import json
 import resource
 import statistics
-import subprocess
-import sys
 import time
 
-from common import finish, markdown_table, say
+from common import child_result, finish, markdown_table, print_result, say
 
 import bench_million  # noqa: E402
 import report  # noqa: E402
@@ -49,16 +46,15 @@ def child(name, held, runs):
         after = resource.getrusage(MAIN_THREAD)
         rows.append((time.perf_counter() - start, after.ru_stime - before.ru_stime,
                      after.ru_minflt - before.ru_minflt))
-    print("RESULT " + json.dumps([statistics.median(row[k] for row in rows) for k in range(3)]), flush=True)
+    print_result([statistics.median(row[k] for row in rows) for k in range(3)])
 
 
 def measure(name, held, runs):
-    proc = subprocess.run([sys.executable, __file__, "--child", name, "held" if held else "handed-back",
-                           "--runs", str(runs)], capture_output=True, text=True, timeout=1800)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
-    if proc.returncode != 0 or not lines:
-        raise RuntimeError("the bake of {} failed: {}".format(name, proc.stderr.strip()[-2000:]))
-    return json.loads(lines[-1][len("RESULT "):])
+    try:
+        return child_result(__file__, "--child", name, "held" if held else "handed-back", "--runs", str(runs),
+                            timeout=1800)
+    except RuntimeError as error:
+        raise RuntimeError("the bake of {} failed: {}".format(name, error)) from None
 
 
 def main():

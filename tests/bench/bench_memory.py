@@ -12,12 +12,9 @@ that runs out of memory; erring low is the fault to fix).
 """
 
 import argparse
-import json
-import pathlib
-import subprocess
 import sys
 
-from common import finish, markdown_table, process_peak_mb, resident_mb, say
+from common import child_result, finish, markdown_table, print_result, process_peak_mb, resident_mb, say
 
 #: How far the estimate after layout may stray from the measured peak growth, either way.
 TOLERATED = 0.30
@@ -73,17 +70,15 @@ def main():
     parser.add_argument("--one", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.one:
-        print("RESULT " + json.dumps(measure(*CASES[args.one])), flush=True)
+        print_result(measure(*CASES[args.one]))
         return
     rows, missed = [], []
     for name in args.cases:
-        proc = subprocess.run([sys.executable, str(pathlib.Path(__file__).resolve()), "--one", name],
-                              capture_output=True, text=True, timeout=3600)
-        lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
-        if proc.returncode != 0 or not lines:
-            rows.append([name, "failed: " + (proc.stderr.strip().splitlines() or ["?"])[-1], "", "", "", "", ""])
+        try:
+            r = child_result(__file__, "--one", name)
+        except RuntimeError as error:
+            rows.append([name, "failed: " + str(error).splitlines()[-1], "", "", "", "", ""])
             continue
-        r = json.loads(lines[-1][len("RESULT "):])
         rows.append([name, "{:,}".format(r["triangles"]), "{:,}".format(r["texels"]),
                      "{:,.0f}".format(r["first_estimate"]), "{:,.0f}".format(r["layout_estimate"]),
                      "{:,.0f}".format(r["measured"]), "{:+.0%}".format(r["layout_estimate"] / r["measured"] - 1.0)])

@@ -20,12 +20,9 @@ memory of the whole process, Blender, the mesh and the bake together).
 """
 
 import argparse
-import json
 import pathlib
-import subprocess
-import sys
 
-from common import finish, markdown_table, process_peak_mb, resident_mb, say
+from common import child_result, finish, markdown_table, print_result, process_peak_mb, resident_mb, say
 
 import report
 from quality_promises import cheapest_reaching
@@ -118,12 +115,10 @@ def level_rows(name, results):
 
 def peak_memory(name):
     """In a process of its own: ``{"peak": MB, "before": MB}`` of a MEMORY_SETTING bake of mesh ``name``."""
-    proc = subprocess.run([sys.executable, str(pathlib.Path(__file__).resolve()), "--memory-of", name],
-                          capture_output=True, text=True, timeout=3600)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
-    if proc.returncode != 0 or not lines:
-        raise RuntimeError("the memory run of {} failed: {}".format(name, proc.stderr.strip()[-2000:]))
-    return json.loads(lines[-1][len("RESULT "):])
+    try:
+        return child_result(__file__, "--memory-of", name)
+    except RuntimeError as error:
+        raise RuntimeError("the memory run of {} failed: {}".format(name, error)) from None
 
 
 def measure_memory(name):
@@ -131,7 +126,7 @@ def measure_memory(name):
     before = resident_mb()
     size, rays = MEMORY_SETTING
     seamless_bake(ob, image_size=size, rays=rays)
-    print("RESULT " + json.dumps({"peak": process_peak_mb(), "before": before}), flush=True)
+    print_result({"peak": process_peak_mb(), "before": before})
 
 
 def main():

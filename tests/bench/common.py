@@ -8,6 +8,7 @@ the script, its arguments, the machine, Blender and the commit;
 """
 
 import datetime
+import json
 import os
 import pathlib
 import platform
@@ -134,6 +135,27 @@ def finish(script, doc, status=0):
         (PAGES / (name + ".md")).write_text("\n".join(header + _said).rstrip() + "\n")
         print("wrote", (PAGES / (name + ".md")).relative_to(ROOT))
     package.hard_exit(status)
+
+
+def print_result(value):
+    """Hand ``value`` (JSON) to the bench that started this process (:func:`child_result`)."""
+    print(RESULT + json.dumps(value), flush=True)
+
+
+def child_result(script, *arguments, timeout=3600):
+    """Run the bench ``script`` with ``arguments`` in a process of its own; what it handed back with
+    :func:`print_result` (its last such line).  Raises RuntimeError, with the end of its stderr, where it
+    failed or handed back nothing."""
+    proc = subprocess.run([sys.executable, str(pathlib.Path(script).resolve()), *arguments],
+                          capture_output=True, text=True, timeout=timeout)
+    lines = [line for line in proc.stdout.splitlines() if line.startswith(RESULT)]
+    if proc.returncode != 0 or not lines:
+        raise RuntimeError(proc.stderr.strip()[-2000:] or "?")
+    return json.loads(lines[-1][len(RESULT):])
+
+
+#: What starts the line a bench's child process hands its result back on.
+RESULT = "RESULT "
 
 
 def markdown_table(headers, rows):
