@@ -120,6 +120,7 @@ class BakePipeline:
 
     def __init__(self, meshes, matrices, settings, make_caster, occluders=None, free_casters=None, shown=None):
         self.meshes = list(meshes)
+        self.triangle_count = sum(len(mesh.triangles) for mesh in self.meshes)      # all meshes together
         self.matrices = [np.asarray(m, dtype=np.float64) for m in matrices]
         self.settings = settings.resolved()             # the Quality preset's image size and rays filled in
         self.make_caster = make_caster
@@ -132,17 +133,16 @@ class BakePipeline:
     def check_memory(self, layout=None):
         """Refuse (:class:`.errors.SeamlessAOError`) a bake estimated to need more than the memory budget:
         from the surface area before the layout, from the layout's texels and image after it."""
-        triangles = sum(len(m.triangles) for m in self.meshes)
         if layout is None:
             pixels, texels = planned_size(self.settings, sum(float(m.triangle_area.sum()) for m in self.meshes))
         else:
             pixels, texels = layout.atlas.width * layout.atlas.height, len(layout.texels)
-        check_budget(self.settings, triangles, pixels, texels)
+        check_budget(self.settings, self.triangle_count, pixels, texels)
 
     def steps(self):
         """Yield ``(fraction, message)`` after each step; the casters are freed however it ends, and the memory
         one step frees is held for the next (:func:`.freed_memory.freed_memory_held`)."""
-        with freed_memory_held(sum(len(mesh.triangles) for mesh in self.meshes)):
+        with freed_memory_held(self.triangle_count):
             yield from self._steps()
 
     def _steps(self):
@@ -166,7 +166,7 @@ class BakePipeline:
             # layout's freed temporaries go back first.  A bake the node casts alone keeps them (no peak to keep
             # down there, and the pages would fault back in: 0.3 to 0.6 s at a million triangles).
             if job.whole_parts.any():
-                give_back_freed_memory(sum(len(mesh.triangles) for mesh in self.meshes))
+                give_back_freed_memory(self.triangle_count)
             while not job.finished:
                 fraction = job.step()
                 yield 0.15 + 0.8 * fraction, "Casting rays: {:.0%}".format(fraction)
