@@ -225,12 +225,12 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
     packer = Packer(covers, _chart_centres(mesh, member_triangle, member_chart, charts.count), padding)
     placement = (largest_density(packer, int(image_size), area) if image_size is not None
                  else _place_at_density(packer, covers, area, density, padding, max_size))
-    transforms = placement.transforms()                                    # (c, 2, 3)
-    member_uv = _apply(transforms, member_chart, local_uv)
+    maps = placement.maps()
+    member_uv = _apply(maps, member_chart, local_uv)
     del local_uv
     placed = len(member_triangle)
     member_triangle, member_chart, member_uv, dominant_member = _members_with_orphans(
-        mesh, topology, charts, membership, member_triangle, member_chart, member_uv, transforms, factor)
+        mesh, topology, charts, membership, member_triangle, member_chart, member_uv, maps, factor)
     point_member = _largest_member(mesh, member_triangle, member_chart, charts.count, placed,
                                    placement.point_texel >= 0)
     width, height = placement.width, placement.height                     # texels
@@ -246,7 +246,7 @@ def pack_charts(mesh, topology, charts, padding=4, image_size=None, density=None
         padding=padding, warnings=long_chart_warning(factor) + placement.warnings())
 
 
-def _members_with_orphans(mesh, topology, charts, membership, member_triangle, member_chart, member_uv, transforms,
+def _members_with_orphans(mesh, topology, charts, membership, member_triangle, member_chart, member_uv, maps,
                           factor):
     """The members with one more for each triangle of a face in no chart (zero area: a neighbour's chart,
     :func:`_adopt_orphans`), at the end; and ``dominant_member`` (t,): each triangle's member on its face's
@@ -255,7 +255,7 @@ def _members_with_orphans(mesh, topology, charts, membership, member_triangle, m
     if len(orphan_triangle):
         orphan_local = project_corners(mesh, orphan_triangle, charts.chart_axis[orphan_chart])
         orphan_local *= factor[orphan_chart][:, None, None]
-        member_uv = np.concatenate([member_uv, _apply(transforms, orphan_chart, orphan_local)])
+        member_uv = np.concatenate([member_uv, _apply(maps, orphan_chart, orphan_local)])
         member_triangle = np.concatenate([member_triangle, orphan_triangle])
         member_chart = np.concatenate([member_chart, orphan_chart])
     dominant_member = np.full(len(mesh.triangles), -1, dtype=membership.dtype)
@@ -314,23 +314,15 @@ def _largest_member(mesh, member_triangle, member_chart, chart_count, placed_cou
     return best
 
 
-def _apply(transforms, chart, points):
-    """``points`` (m, k, 2), each moved by the affine transform (c, 2, 3) of its ``chart`` (m,) int, in place;
-    returns ``points``.  A block of members at a time (:func:`..arrays.blocks.row_blocks`): the temporaries
-    stay a few MB, where the whole (m, k) at once allocated eight arrays of 36 MB at a million triangles (and
-    this machine's fresh pages cost)."""
+def _apply(maps, chart, points):
+    """``points`` (m, k, 2), each moved by the map ``(scale (c,), shift (c, 2))`` of its ``chart`` (m,) int
+    (:meth:`.packing.Placement.maps`: ``scale * u + shift``), in place; returns ``points``.  A block of members
+    at a time (:func:`..arrays.blocks.row_blocks`): the gathered scales and shifts stay small."""
+    scale, shift = maps
     for rows in row_blocks(len(points)):
         block = points[rows]
-        t = transforms[chart[rows]][:, None]                                        # (b, 1, 2, 3)
-        u, v = block[..., 0], block[..., 1]
-        new_u = t[..., 0, 0] * u
-        new_u += t[..., 0, 1] * v
-        new_u += t[..., 0, 2]
-        new_v = t[..., 1, 0] * u
-        new_v += t[..., 1, 1] * v
-        new_v += t[..., 1, 2]
-        block[..., 0] = new_u
-        block[..., 1] = new_v
+        block *= scale[chart[rows]][:, None, None]
+        block += shift[chart[rows]][:, None, :]
     return points
 
 

@@ -312,17 +312,17 @@ class Placement:
     point_count: int
     padding: int
 
-    def transforms(self):
-        """(c, 2, 3) affine map chart plane -> texels of every chart (point charts: constant)."""
-        count = len(self.point_texel)
-        transforms = np.zeros((count, 2, 3))
+    def maps(self):
+        """``(scale (c,), shift (c, 2))``: every chart's map chart plane -> texels, ``texel = scale * u + shift``
+        (charts are never rotated; a point chart's scale is 0, its shift its texel's centre)."""
         drawn = self.point_texel < 0
-        transforms[drawn, 0, 0] = transforms[drawn, 1, 1] = self.density
-        transforms[drawn, :, 2] = self.offset[drawn] - self.density * self.origin[drawn]
+        scale = np.where(drawn, float(self.density), 0.0)
+        shift = np.empty((len(self.point_texel), 2))
+        shift[drawn] = self.offset[drawn] - self.density * self.origin[drawn]
         texel = self.point_texel[~drawn]
-        transforms[~drawn, 0, 2] = texel % self.width + 0.5
-        transforms[~drawn, 1, 2] = texel // self.width + 0.5
-        return transforms
+        shift[~drawn, 0] = texel % self.width + 0.5
+        shift[~drawn, 1] = texel // self.width + 0.5
+        return scale, shift
 
     def warnings(self):
         """Sentences for the bake report."""

@@ -12,7 +12,7 @@ from seamless_ao.core.atlas import chart_atlas
 from seamless_ao.core.atlas.chart_atlas import _apply, _chart_centres, _largest_member
 from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
-from seamless_ao.core.atlas.packing import xatlas_padding
+from seamless_ao.core.atlas.packing import Placement, xatlas_padding
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.atlas.raster import COVERED
 
@@ -127,19 +127,27 @@ def test_large_charts_keep_the_padding_setting_free_between_them_and_not_much_mo
     assert padding <= gap <= padding + 2
 
 
-def test_apply_moves_every_member_by_its_charts_transform_block_by_block(monkeypatch):
-    """Blocks smaller than the members (and one left over): each point as ``a u + b v + c``, to the bit."""
+def test_apply_moves_every_member_by_its_charts_map_block_by_block(monkeypatch):
+    """Blocks smaller than the members (and one left over): each point as ``scale u + shift``, to the bit."""
     monkeypatch.setattr(blocks, "BLOCK_ROWS", 7)
     rng = np.random.default_rng(5)
-    transforms, chart = rng.normal(size=(4, 2, 3)), rng.integers(0, 4, 30)
+    scale, shift, chart = rng.normal(size=4), rng.normal(size=(4, 2)), rng.integers(0, 4, 30)
     points = rng.normal(size=(30, 3, 2))
-    t = transforms[chart][:, None]
-    u, v = points[..., 0], points[..., 1]
-    expected = np.stack([t[..., 0, 0] * u + t[..., 0, 1] * v + t[..., 0, 2],
-                         t[..., 1, 0] * u + t[..., 1, 1] * v + t[..., 1, 2]], axis=-1)
-    moved = _apply(transforms, chart, points.copy())
-    assert moved.tobytes() == expected.tobytes()
-    assert _apply(transforms, chart[:0], points[:0]).shape == (0, 3, 2)
+    expected = points * scale[chart][:, None, None] + shift[chart][:, None, :]
+    moved = _apply((scale, shift), chart, points.copy())
+    assert np.array_equal(moved, expected)
+    assert _apply((scale, shift), chart[:0], points[:0]).shape == (0, 3, 2)
+
+
+def test_placement_maps_scale_drawn_charts_and_pin_point_charts_to_their_texel_centre():
+    """A drawn chart: ``density * (u - origin) + offset``; a point chart: its texel's centre whatever u is."""
+    placement = Placement(density=2.5, width=8, height=4, offset=np.array([[1.0, 2.0], [0.0, 0.0]]),
+                          origin=np.array([[0.5, -1.0], [9.0, 9.0]]), point_texel=np.array([-1, 19]), share=1,
+                          point_count=1, padding=1)
+    points = np.array([[[0.5, -1.0], [1.5, 0.0], [0.0, 3.0]], [[4.0, 5.0], [6.0, 7.0], [8.0, 9.0]]])
+    moved = _apply(placement.maps(), np.array([0, 1]), points.copy())
+    assert np.allclose(moved[0], 2.5 * (points[0] - [0.5, -1.0]) + [1.0, 2.0])
+    assert np.array_equal(moved[1], np.tile([19 % 8 + 0.5, 19 // 8 + 0.5], (3, 1)))
 
 
 def test_chart_centres_are_the_mean_of_their_members_triangle_centres():
