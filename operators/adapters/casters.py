@@ -23,6 +23,13 @@ from ...shaders.raycast_nodes import raycast_group
 from .cycles_caster import CyclesAmbientOcclusion, cycles_enabled
 from .mesh_data import mesh_from_triangles
 
+#: An occluder of at least this many triangles gets its BVH built by a cast of one ray before its first batch.
+#: The Raycast node builds the BVH at its first evaluation.  In Blender 5.0, when that evaluation is a batch of
+#: rays, the build runs while the rays are evaluated on all cores and takes about as long as on one: at a million
+#: triangles the batch's first cast took longer than one ray's and the batch's after it together (4.2 and 5.2
+#: take as long either way).  One ray costs one more evaluation, which a small occluder's BVH does not repay.
+BUILD_ALONE_FROM_TRIANGLES = 1 << 16
+
 
 class NodesCaster(RayCaster):
     """Ray caster evaluated by Geometry Nodes.
@@ -46,6 +53,7 @@ class NodesCaster(RayCaster):
         self.scene.collection.objects.link(self.occluder)
         # Hide the occluder from the render, it only serves as the node's target.
         self.occluder.hide_render = True
+        self.build_alone = len(triangles) >= BUILD_ALONE_FROM_TRIANGLES
         self.points = None
         self._set_up_raycast()
 
@@ -62,6 +70,7 @@ class NodesCaster(RayCaster):
         self._temporary(self.group)
         modifier = self.points.modifiers.new("raycast", "NODES")
         modifier.node_group = self.group
+        self.bvh_built = False              # the Raycast node builds it at its first evaluation
 
     def _release_raycast(self):
         """Remove the points and their node group, and give the occluder a copy of its mesh: Blender keeps the
@@ -88,6 +97,18 @@ class NodesCaster(RayCaster):
         facing = np.zeros(count)
         if not count:
             return distance, facing, np.zeros(count, dtype=bool)
+        if not self.bvh_built and self.build_alone and count > 1:
+            self._evaluate(origins[:1], directions[:1], max_distance)       # see BUILD_ALONE_FROM_TRIANGLES
+        hit = self._evaluate(origins, directions, max_distance)
+        found = hit[:, 0] >= 0.0
+        distance[found] = hit[found, 0]
+        facing[found] = hit[found, 1]
+        return distance, facing, found & (hit[:, 2] > 0.5)
+
+    def _evaluate(self, origins, directions, max_distance):
+        """(k, 3) float32 ``hit`` of rays from ``origins`` along ``directions`` (k, 3): the node group evaluated once
+        on a point mesh of them."""
+        count = len(origins)
         mesh = self.points_mesh
         mesh.clear_geometry()
         mesh.vertices.add(count)
@@ -103,11 +124,8 @@ class NodesCaster(RayCaster):
         evaluated = self.points.evaluated_get(depsgraph).data
         hit = np.empty(count * 3, dtype=np.float32)
         evaluated.attributes["hit"].data.foreach_get("vector", hit)
-        hit = hit.reshape(-1, 3)
-        found = hit[:, 0] >= 0.0
-        distance[found] = hit[found, 0]
-        facing[found] = hit[found, 1]
-        return distance, facing, found & (hit[:, 2] > 0.5)
+        self.bvh_built = True
+        return hit.reshape(-1, 3)
 
     def free(self):
         """Remove every temporary datablock (safe to call twice)."""

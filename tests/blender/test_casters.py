@@ -5,6 +5,7 @@ import numpy as np
 
 from blender_scenes import suzanne
 from seamless_ao.core.rays.ray_setup import BVHCaster
+from seamless_ao.operators.adapters import casters
 from seamless_ao.operators.adapters.casters import NodesCaster
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
@@ -54,6 +55,43 @@ def test_nodes_caster_agrees_with_the_bvh_caster_hit_for_hit(fresh_scene):
     agree[hit] &= np.isclose(distance[hit], expected_distance[hit], rtol=1e-4, atol=1e-5)
     agree[hit] &= np.sign(facing[hit]) == np.sign(expected_facing[hit])
     assert agree.mean() > 0.999, agree.mean()                  # a ray grazing an edge may go either way
+
+
+def test_a_big_occluders_bvh_is_built_by_one_ray_before_its_first_batch_and_changes_no_hit(fresh_scene, monkeypatch):
+    """From BUILD_ALONE_FROM_TRIANGLES (made small here) the first batch is preceded by a cast of its first ray
+    alone, once per BVH: again after the Raycast set-up is let go of (the occluder's copy drops the BVH).  The
+    hits are those of a caster that casts the batch at once."""
+    mesh, _ = read_triangles(suzanne(1).data)
+    rng = np.random.default_rng(2)
+    origins = rng.uniform(-1.5, 1.5, (3000, 3))
+    directions = rng.normal(size=(3000, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    flags = np.arange(len(mesh.triangles)) % 3 == 0
+    results = {}
+    for least in (len(mesh.triangles) + 1, len(mesh.triangles)):
+        monkeypatch.setattr(casters, "BUILD_ALONE_FROM_TRIANGLES", least)
+        caster = NodesCaster(mesh.positions, mesh.triangles, flags)
+        evaluated = []
+        evaluate = caster._evaluate
+        caster._evaluate = lambda o, d, m: evaluated.append(len(o)) or evaluate(o, d, m)
+        try:
+            first = caster.cast(origins, directions, 2.0)
+            again = caster.cast(origins[:100], directions[:100], 2.0)
+            caster._release_raycast()
+            after_release = caster.cast(origins, directions, 2.0)
+        finally:
+            caster.free()
+        for one, other in zip(first, after_release):
+            assert np.array_equal(one, other)
+        for one, other in zip(again, first):
+            assert np.array_equal(one, other[:100])
+        results[least] = (evaluated, first)
+    (below, below_hits), (above, above_hits) = results.values()
+    assert below == [3000, 100, 3000]
+    assert above == [1, 3000, 100, 1, 3000]
+    for one, other in zip(below_hits, above_hits):
+        assert np.array_equal(one, other)
+    assert np.isfinite(below_hits[0]).sum() > 500
 
 
 def test_a_bake_of_many_objects_leaves_no_temporary_datablock(addon, fresh_scene):
