@@ -116,9 +116,13 @@ class BakePipeline:
     shown : list (one per mesh) of None or ``(positions (v, 3), corner_vert (l,), loop_start (f,))``, optional
         Another surface the mesh shows (the viewport's, at other Subdivision levels), in its object space:
         the result then holds UVs for its corners (:meth:`BakeResult.part_shown_uv`).
+    caster_sources : list (one per mesh) of None or what the caller read the mesh from, optional: handed to
+        ``make_caster`` as ``source=`` where a caster's occluders are that mesh alone
+        (:func:`.rays.ray_setup.ray_part`; the Blender side's copy of the evaluated mesh)
     """
 
-    def __init__(self, meshes, matrices, settings, make_caster, occluders=None, free_casters=None, shown=None):
+    def __init__(self, meshes, matrices, settings, make_caster, occluders=None, free_casters=None, shown=None,
+                 caster_sources=None):
         self.meshes = list(meshes)
         self.triangle_count = sum(len(mesh.triangles) for mesh in self.meshes)      # all meshes together
         self.matrices = [np.asarray(m, dtype=np.float64) for m in matrices]
@@ -127,6 +131,7 @@ class BakePipeline:
         self.occluders = occluders
         self.free_casters = free_casters or _free_each
         self.shown = list(shown) if shown is not None else [None] * len(self.meshes)
+        self.caster_sources = list(caster_sources) if caster_sources is not None else [None] * len(self.meshes)
         self.parts = []
         self.result = None
 
@@ -159,7 +164,8 @@ class BakePipeline:
             yield 0.15, "Preparing rays"
             for index, (mesh, matrix) in enumerate(zip(self.meshes, self.matrices)):
                 near = self.occluders[index] if self.occluders is not None and settings.use_scene_occluders else None
-                self.parts.append(ray_part(mesh, matrix, settings, self.make_caster, near))
+                self.parts.append(ray_part(mesh, matrix, settings, self.make_caster, near,
+                                           source=self.caster_sources[index]))
             targets = TexelTargets(layout)
             job = AOJob(targets, self.parts, weighted=settings.weighted_rays)
             # Where Cycles bakes the bulk, its scene and the pilot's BVH come next, in blocks of their own: the

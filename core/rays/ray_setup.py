@@ -232,7 +232,7 @@ def world_reach(mesh, matrix, settings):
     return low, high, reach
 
 
-def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
+def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None, source=None):
     """The :class:`RayPart` of one mesh of a bake.
 
     Ray space has the world's axes and scale (what the object looks like) with
@@ -251,6 +251,9 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
     occluders : iterable of ``(world positions (v, 3), triangles (t, 3))``, optional: scene occluders, each
         triangle wound counter-clockwise seen from the front in world space (:func:`world_winding`)
     rays : int, optional, overrides the settings' ray count
+    source : object, optional, what the caller read ``mesh`` from (opaque here: the Blender side's copy of the
+        evaluated mesh), handed to ``make_caster(..., source=source)`` where the caster's occluders are the
+        mesh alone, wound as read (no scene occluders, no mirroring matrix)
     """
     matrix = np.asarray(matrix, dtype=np.float64)
     rest = rest_vertices(mesh)
@@ -266,6 +269,9 @@ def ray_part(mesh, matrix, settings, make_caster, occluders=None, rays=None):
             positions.append(world_positions - shift)
     # the mesh alone: its own pieces (kept on the mesh, the proxy layout read them), moved into ray space as a whole
     vertex_piece = mesh.vertex_piece if len(positions) == 1 else None
+    as_read = len(positions) == 1 and np.linalg.det(matrix[:3, :3]) >= 0.0      # the mesh alone, wound as read
     positions, triangles = np.concatenate(positions), np.concatenate(triangles)
     sealed = sealed_triangles(positions, triangles, vertex_piece=vertex_piece)
+    if source is not None and as_read:
+        return RayPart(params, make_caster(positions, triangles, sealed, source=source), to_ray)
     return RayPart(params, make_caster(positions, triangles, sealed), to_ray)

@@ -39,15 +39,31 @@ class NodesCaster(RayCaster):
     positions : (v, 3) float, ray space
     triangles : (t, 3) int
     sealed : (t,) bool, optional, triangles of closed pieces (core/mesh/sealed.py; none if not given)
+    source : mesh_data.OccluderCopy, optional: the evaluated mesh these triangles were read from (Blender's
+        triangulation of its faces, as wound), copied; the caster takes it over, moves its vertices to
+        ``positions`` and casts against it instead of a mesh built anew (Blender triangulates the moved faces as
+        it did the read ones, but for a quad so bent that the move flips its choice of diagonal).  ``sealed``
+        must then be the same for every triangle of a face (it is: it is a piece's).
     """
 
     name = "GEOMETRY_NODES"
 
-    def __init__(self, positions, triangles, sealed=None):
+    def __init__(self, positions, triangles, sealed=None, source=None):
         self._datablocks = []
         self.scene = self._temporary(bpy.data.scenes.new(TEMP_PREFIX + "scene"))
-        occluder_mesh = self._temporary(mesh_from_triangles(TEMP_PREFIX + "occluders", positions, triangles))
         flag = np.zeros(len(triangles), dtype=np.float32) if sealed is None else np.asarray(sealed, dtype=np.float32)
+        if source is not None and source.fits(len(positions), len(triangles)):
+            occluder_mesh = self._temporary(source.mesh)
+            occluder_mesh.attributes["position"].data.foreach_set(
+                "vector", np.asarray(positions, dtype=np.float32).ravel())
+            occluder_mesh.update()                       # its positions changed: nothing cached for the old ones
+            face_flag = np.zeros(len(occluder_mesh.polygons), dtype=np.float32)
+            face_flag[source.triangle_face] = flag
+            flag = face_flag
+            if "sealed" in occluder_mesh.attributes:           # the user's own, of that name
+                occluder_mesh.attributes.remove(occluder_mesh.attributes["sealed"])
+        else:
+            occluder_mesh = self._temporary(mesh_from_triangles(TEMP_PREFIX + "occluders", positions, triangles))
         occluder_mesh.attributes.new("sealed", "FLOAT", "FACE").data.foreach_set("value", flag)
         self.occluder = self._temporary(bpy.data.objects.new(TEMP_PREFIX + "occluders", occluder_mesh))
         self.scene.collection.objects.link(self.occluder)
@@ -141,8 +157,8 @@ class CyclesCaster(CyclesAmbientOcclusion, NodesCaster):
     #: What cast every ray when no part had enough rays left after the pilot for Cycles (core/rays/job.py).
     pilot_name = NodesCaster.name
 
-    def __init__(self, positions, triangles, sealed=None):
-        super().__init__(positions, triangles, sealed)
+    def __init__(self, positions, triangles, sealed=None, source=None):
+        super().__init__(positions, triangles, sealed, source)
         # Cycles' device is asked for at its first bake: a bake whose rays all go to the node never asks
         self.device, self.warnings = None, []
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from ...core.keys import STACK_MODIFIER
+from ...core.keys import STACK_MODIFIER, TEMP_PREFIX
 from ...core.mesh.triangle_mesh import MeshArrays, boxes_near
 from ...core.rays.ray_setup import world_winding
 
@@ -65,6 +65,56 @@ def mesh_from_triangles(name, positions, triangles):
     mesh.polygons.foreach_set("loop_start", np.arange(0, triangles.size, 3, dtype=np.int32))
     mesh.update()
     return mesh
+
+
+@dataclass
+class OccluderCopy:
+    """A temporary copy of an evaluated mesh a bake read, for its ray caster to cast against instead of a mesh
+    built anew from the triangles (:func:`mesh_from_triangles` worked out every edge again: 0.1 to 0.2 s a
+    million triangles).  The copy shares the evaluated mesh's arrays until written to, and has no materials.
+
+    Attributes
+    ----------
+    mesh : bpy.types.Mesh, its vertices those the bake read, its triangulation Blender's, as read
+    triangle_face : (t,) int, the face of each triangle the bake read
+    """
+
+    mesh: object
+    triangle_face: np.ndarray
+
+    def fits(self, vertices, triangles):
+        """True if the copy still is what was read: ``vertices`` and ``triangles`` (counts)."""
+        mesh = self.mesh
+        return len(mesh.vertices) == vertices and len(mesh.loops) - 2 * len(mesh.polygons) == triangles
+
+
+def occluder_copy(ob, depsgraph, arrays):
+    """An :class:`OccluderCopy` of ``ob`` as ``depsgraph`` evaluates it, read as ``arrays`` (MeshArrays), or None
+    where the copy does not have the vertices and triangles read (it is then removed)."""
+    mesh = bpy.data.meshes.new_from_object(ob.evaluated_get(depsgraph), preserve_all_data_layers=False,
+                                           depsgraph=depsgraph)
+    mesh.name = TEMP_PREFIX + "occluders"
+    mesh.materials.clear()
+    copy = OccluderCopy(mesh, np.asarray(arrays.triangle_face))
+    if not copy.fits(len(arrays.positions), len(arrays.triangles)):
+        bpy.data.meshes.remove(mesh)
+        return None
+    return copy
+
+
+def remove_occluder_copies(copies):
+    """Remove the copies' meshes that no caster took over (safe to call twice)."""
+    meshes = []
+    for copy in copies:
+        if copy is None:
+            continue
+        try:
+            copy.mesh.name                           # still there?
+            meshes.append(copy.mesh)
+        except ReferenceError:
+            pass
+    if meshes:
+        bpy.data.batch_remove(meshes)
 
 
 def read_uv(mesh, name):

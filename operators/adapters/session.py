@@ -26,13 +26,14 @@ from ...core.freed_memory import freed_memory_held
 from ...core.keys import IMAGE_KEY
 from ...core.other_processes.handoff import outcome_numbers
 from ...core.pipeline import BakePipeline
-from ...core.rays.ray_setup import world_reach
+from ...core.rays.ray_setup import BVHCaster, world_reach
 from ...core.settings import BakeSettings, caster_words
 from ..background.client import BackgroundBake
 from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
 from .cycles_caster import cycles_enabled
-from .mesh_data import EvaluatedCorners, read_object, render_evaluation, scene_occluders, world_boxes
+from .mesh_data import (EvaluatedCorners, occluder_copy, read_object, remove_occluder_copies, render_evaluation,
+                        scene_occluders, world_boxes)
 from .scene_settings import settings_from
 from .writes import Transaction, corner_uv, image_file_path, save_image_file
 
@@ -108,6 +109,7 @@ class BakeSession:
         self.pipeline = None
         self.process = None
         self.report = None
+        self.occluder_copies = []           # per pipeline mesh: mesh_data.OccluderCopy, or None
         self.started = time.perf_counter()
         bpy.context.evaluated_depsgraph_get()          # transforms set by a script are evaluated before the checks
         check_objects(self.objects, self.settings)
@@ -130,7 +132,8 @@ class BakeSession:
                     # triangles, held through the whole bake beside the mesh's own
                     meshes = None
                     self.pipeline = BakePipeline(triangle_meshes, self.matrices, self.settings,
-                                                 caster_maker(self.settings), occluders, free_casters, self._shown())
+                                                 caster_maker(self.settings), occluders, free_casters, self._shown(),
+                                                 self.occluder_copies)
                     yield from self.pipeline.steps()
                     outcome = self.pipeline.result
                     numbers = outcome_numbers(outcome)
@@ -186,6 +189,7 @@ class BakeSession:
         background process and remove its files."""
         if self.pipeline is not None:
             self.pipeline.free()
+        remove_occluder_copies(self.occluder_copies)         # those no caster took over
         if self.process is not None:
             self.process.close()
 
@@ -201,6 +205,8 @@ class BakeSession:
             users[ob.data] = users.get(ob.data, 0) + 1
         # as they render: the baked objects, and every object when the scene's may occlude them
         evaluated = self.scene.objects if self.settings.use_scene_occluders else self.objects
+        # the Geometry Nodes casters (Cycles' too) cast against a copy of what was read, made here, as it renders
+        copying = not self.background and caster_maker(self.settings) is not BVHCaster
         with render_evaluation(evaluated):
             depsgraph = bpy.context.evaluated_depsgraph_get()
             for ob in self.objects:
@@ -208,6 +214,7 @@ class BakeSession:
                 if not len(arrays.triangles):
                     raise SeamlessAOError("'{}' has no faces to bake as it renders (its modifiers leave none)".format(
                         ob.name))
+                self.occluder_copies.append(occluder_copy(ob, depsgraph, arrays) if copying else None)
                 matrix = np.array(ob.matrix_world, dtype=np.float64)
                 meshes.append(arrays)
                 baked.append(BakedObject(ob, loops, matrix, corners, not on_base or users[ob.data] > 1))
@@ -228,6 +235,7 @@ class BakeSession:
                 # a Subdivision cage: its own AO, baked as one more piece of the atlas, with its own rays
                 part.viewport_part, part.viewport_loops = len(meshes), loops
                 meshes.append(shown)
+                self.occluder_copies.append(None)
                 occluders.append(occluders[index])
                 self.matrices.append(part.matrix)
         self.fingerprints = [mesh_fingerprint(ob) for ob in self.objects]

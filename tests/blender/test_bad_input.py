@@ -153,6 +153,18 @@ def test_a_stack_that_leaves_no_faces_is_refused(monkey):
     expect_refusal([monkey], "'Suzanne' has no faces to bake as it renders")
 
 
+def test_a_refusal_after_an_object_was_read_leaves_no_copy_of_it(monkey):
+    """The first object is read, and its evaluated mesh copied for the ray caster, before the second is found
+    to leave no faces: the copy goes with the refusal (blend_state counts every mesh)."""
+    bpy.ops.mesh.primitive_cube_add(location=(4.0, 0.0, 0.0))
+    cube = bpy.context.active_object
+    group = bpy.data.node_groups.new("Nothing", "GeometryNodeTree")
+    group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    monkey.modifiers.new("Nothing", "NODES").node_group = group
+    expect_refusal([cube, monkey], "'Suzanne' has no faces to bake as it renders")
+
+
 def test_deforming_modifier_bakes_the_evaluated_shape(fresh_scene, addon):
     """A box lifted far above a floor slab (one mesh) and brought down over it by a Displace modifier on the
     box's vertex group: the bake must see the box where the modifier puts it.  Read from the base mesh, the

@@ -2,6 +2,7 @@
 core's BVHTree caster."""
 
 import numpy as np
+import pytest
 
 from blender_scenes import suzanne
 from seamless_ao.core.rays.ray_setup import BVHCaster
@@ -92,6 +93,65 @@ def test_a_big_occluders_bvh_is_built_by_one_ray_before_its_first_batch_and_chan
     for one, other in zip(below_hits, above_hits):
         assert np.array_equal(one, other)
     assert np.isfinite(below_hits[0]).sum() > 500
+
+
+def test_a_caster_given_the_copy_of_what_was_read_hits_what_a_mesh_built_anew_hits(fresh_scene):
+    """Suzanne subdivided once (quads: Blender's triangulation of them is what the bake read), a flag per
+    piece: a caster that takes over the copy of her evaluated mesh (moved to ray space: here 3 units and
+    turned) hits what a caster of a mesh built from the triangles hits, sealed flags included, to the bit; the
+    copy is gone when the caster is freed."""
+    import bpy
+
+    from seamless_ao.core.mesh.weld import vertex_pieces
+    from seamless_ao.operators.adapters.mesh_data import occluder_copy, read_object
+
+    head = suzanne(1)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    arrays = read_object(head, depsgraph)[0]
+    assert len(head.data.polygons) < len(arrays.triangles)                     # quads, two triangles each
+    turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    positions = np.asarray(arrays.positions, dtype=np.float64) @ turn.T + [3.0, 0.0, 0.0]
+    triangles = np.asarray(arrays.triangles)
+    # a flag per piece, as the sealed test gives (hers are all sealed): her head's on, her eyes' off
+    piece = vertex_pieces(positions, triangles)[triangles[:, 0]]
+    sealed = piece == np.bincount(piece).argmax()
+    assert 0 < sealed.sum() < len(sealed)
+    rng = np.random.default_rng(3)
+    origins = rng.uniform(-1.5, 1.5, (4000, 3)) + [3.0, 0.0, 0.0]
+    directions = rng.normal(size=(4000, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    hits = []
+    for source in (None, occluder_copy(head, depsgraph, arrays)):
+        caster = NodesCaster(positions, triangles, sealed, source=source)
+        try:
+            hits.append(caster.cast(origins, directions, 2.0))
+        finally:
+            caster.free()
+        if source is not None:
+            with pytest.raises(ReferenceError):
+                source.mesh.name
+    assert 500 < np.isfinite(hits[0][0]).sum() < 3500 and hits[0][2].any()
+    for built, copied in zip(*hits):
+        assert np.array_equal(built, copied)
+
+
+def test_a_bake_casts_against_the_copy_where_its_occluders_are_the_mesh_alone(addon, fresh_scene, monkeypatch):
+    """No occluder mesh is built anew for an object baked alone (the caster takes the copy of what was read);
+    one is where scene occluders join it, or where its matrix mirrors it (the triangles are wound anew)."""
+    import bpy
+
+    built = []
+    make = casters.mesh_from_triangles
+    monkeypatch.setattr(casters, "mesh_from_triangles", lambda *args: built.append(1) or make(*args))
+    head = suzanne(1)
+    addon.bake([head], image_size=256, rays=2)
+    assert built == []
+    bpy.ops.mesh.primitive_plane_add(size=6.0, location=(0.0, 0.0, -1.0))
+    addon.bake([head], image_size=256, rays=2, use_scene_occluders=True)
+    assert built == [1]
+    head.scale.x = -1.0
+    addon.bake([head], image_size=256, rays=2)
+    assert built == [1, 1]
 
 
 def test_a_bake_of_many_objects_leaves_no_temporary_datablock(addon, fresh_scene):
