@@ -56,11 +56,11 @@ class BakeResult:
         """(t, 3 layers, 3 corners, 2) float64: every triangle's UVs in AO_X, AO_Y and AO_Z."""
         return self.layout.atlas.layer_uv()
 
-    def part_axis_uv(self, part):
-        """The UVs of input mesh ``part``'s triangles in AO_X, AO_Y and AO_Z: three (k, 3 corners, 2) float64,
-        each worked out when read (:class:`LayerByLayer`)."""
+    def part_axis_uv(self, part, dtype=np.float32):
+        """The UVs of input mesh ``part``'s triangles in AO_X, AO_Y and AO_Z: three (k, 3 corners, 2), each worked
+        out when read (:class:`LayerByLayer`), as ``dtype``: float32 (what a UV map holds) unless asked."""
         triangles = self.part_triangles(part)
-        return LayerByLayer(lambda axis: self.layout.atlas.axis_uv(axis, triangles))
+        return LayerByLayer(lambda axis: self.layout.atlas.axis_uv(axis, triangles, dtype))
 
     def part_layer_drop(self, part):
         """(k, 3) int8: for input mesh ``part``'s triangles, the coordinate each one's chart in AO_X, AO_Y and
@@ -206,7 +206,7 @@ class BakePipeline:
     def shown_surface_uv(self, part, surface):
         """UVs for ``surface`` (``(positions, corner_vert, loop_start)``) from mesh ``part``'s charts."""
         mesh, atlas = self.meshes[part], self.result.layout.atlas
-        return surface_uv((mesh.positions, mesh.triangles), np.stack(self.result.part_axis_uv(part)),
+        return surface_uv((mesh.positions, mesh.triangles), np.stack(self.result.part_axis_uv(part, np.float64)),
                           self.result.part_layer_drop(part), surface, (atlas.width, atlas.height))
 
     def free(self):

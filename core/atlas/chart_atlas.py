@@ -104,22 +104,27 @@ class Atlas:
         chart = self.member_chart[self.layer_member(axis, triangles)]
         return (self.charts.chart_axis[chart] // 2).astype(np.int8)
 
-    def axis_uv(self, axis, triangles=slice(None)):
-        """(k, 3, 2) float64: UV of each corner of ``triangles`` (a slice or (k,) int) in layer ``AO_X``,
-        ``AO_Y`` or ``AO_Z`` (``axis`` 0, 1, 2), within half a texel of the image's border.
+    def axis_uv(self, axis, triangles=slice(None), dtype=np.float64):
+        """(k, 3, 2) UV of each corner of ``triangles`` (a slice or (k,) int) in layer ``AO_X``, ``AO_Y`` or
+        ``AO_Z`` (``axis`` 0, 1, 2), within half a texel of the image's border: worked out in float64, returned
+        as ``dtype`` (float32: what a UV map holds, rounded once, half the bytes).
 
         A triangle with no chart on an axis repeats its dominant chart there
         (thesis §7.1.1), so all three lookups read the same surface.  One
-        layer at a time: a bake writes the layers one by one, and the three
-        together are 72 bytes per triangle (72 MB at a million triangles).
+        layer at a time, a block of rows at a time (:func:`..arrays.blocks.row_blocks`): a bake writes the
+        layers one by one, and the three together are 72 bytes per triangle in float64 (72 MB at a million).
         """
-        uv = self.member_uv[self.layer_member(axis, triangles)]
-        # column by column: what ``uv /= size`` and ``np.clip`` compute, in a fifth of the time
-        for column, size in enumerate((float(self.width), float(self.height))):
-            values = uv[..., column]
-            values /= size
-            np.maximum(values, 0.5 / size, out=values)
-            np.minimum(values, 1.0 - 0.5 / size, out=values)
+        member = self.layer_member(axis, triangles)
+        uv = np.empty((len(member), 3, 2), dtype=dtype)
+        for rows in row_blocks(len(member)):
+            block = self.member_uv[member[rows]]
+            # column by column: what ``block /= size`` and ``np.clip`` compute, in a fifth of the time
+            for column, size in enumerate((float(self.width), float(self.height))):
+                values = block[..., column]
+                values /= size
+                np.maximum(values, 0.5 / size, out=values)
+                np.minimum(values, 1.0 - 0.5 / size, out=values)
+            uv[rows] = block
         return uv
 
 

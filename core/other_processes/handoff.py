@@ -149,8 +149,9 @@ class HandedBack:
     numbers: dict
 
     def part_axis_uv(self, part):
-        """Input mesh ``part``'s triangles' UVs in AO_X, AO_Y and AO_Z: three (k, 3, 2) float64, each read
-        from its file when asked for (:class:`..pipeline.LayerByLayer`)."""
+        """Input mesh ``part``'s triangles' UVs in AO_X, AO_Y and AO_Z: three (k, 3, 2) float32 (as the bake
+        wrote them, :meth:`..pipeline.BakeResult.part_axis_uv`), each read from its file when asked for
+        (:class:`..pipeline.LayerByLayer`)."""
         return LayerByLayer(lambda axis: _load(self.folder, "uv{}_{}".format(part, axis)))
 
     def part_shown_uv(self, part):

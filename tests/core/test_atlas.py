@@ -139,6 +139,23 @@ def test_apply_moves_every_member_by_its_charts_map_block_by_block(monkeypatch):
     assert _apply((scale, shift), chart[:0], points[:0]).shape == (0, 3, 2)
 
 
+def test_axis_uv_block_by_block_is_each_corners_texel_over_the_size_clipped_half_a_texel_in(monkeypatch):
+    """Blocks smaller than the triangles: every layer's UVs are the member's texel coordinates over the image
+    size, clipped to half a texel inside, as float64 to the bit and as float32 rounded once from it."""
+    layout = build_layout(TriangleMesh.from_triangles(*meshes.torus(rings=12, segments=8)), image_size=256)
+    atlas = layout.atlas
+    monkeypatch.setattr(blocks, "BLOCK_ROWS", 7)
+    size = np.array([atlas.width, atlas.height], dtype=np.float64)
+    for axis in range(3):
+        expected = np.clip(atlas.member_uv[atlas.layer_member(axis)] / size, 0.5 / size, 1.0 - 0.5 / size)
+        exact, rounded = atlas.axis_uv(axis), atlas.axis_uv(axis, dtype=np.float32)
+        assert exact.dtype == np.float64 and rounded.dtype == np.float32
+        assert np.array_equal(exact, expected)
+        assert np.array_equal(rounded, expected.astype(np.float32))
+        some = np.array([5, 0, 11])
+        assert np.array_equal(atlas.axis_uv(axis, some), expected[some])
+
+
 def test_placement_maps_scale_drawn_charts_and_pin_point_charts_to_their_texel_centre():
     """A drawn chart: ``density * (u - origin) + offset``; a point chart: its texel's centre whatever u is."""
     placement = Placement(density=2.5, width=8, height=4, offset=np.array([[1.0, 2.0], [0.0, 0.0]]),

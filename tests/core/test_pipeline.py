@@ -71,17 +71,20 @@ def test_parts_keep_their_triangles_and_see_what_the_occluders_give():
                          occluders).run()
     assert together.part_triangles(0) == slice(0, len(ring.triangles))
     assert together.part_triangles(1) == slice(len(ring.triangles), len(ring.triangles) + len(floor.triangles))
-    # what the Blender side writes into each part's AO_X/Y/Z: its slice of every triangle's UVs, layer by layer
+    # what the Blender side writes into each part's AO_X/Y/Z: its slice of every triangle's UVs, layer by layer,
+    # rounded once to the float32 a UV map holds (and in float64 where asked)
     every = together.layer_uv
     for part in (0, 1):
-        for axis, uv in enumerate(together.part_axis_uv(part)):
-            np.testing.assert_array_equal(uv, every[together.part_triangles(part), axis])
+        for axis, (uv, exact) in enumerate(zip(together.part_axis_uv(part), together.part_axis_uv(part, np.float64))):
+            assert uv.dtype == np.float32 and exact.dtype == np.float64
+            np.testing.assert_array_equal(exact, every[together.part_triangles(part), axis])
+            np.testing.assert_array_equal(uv, every[together.part_triangles(part), axis].astype(np.float32))
     # each layer is made when read and not kept (a writer holds one layer at a time): a read changed by its
     # reader leaves the next read as it was
     layers = together.part_axis_uv(1)
     assert len(layers) == 3 and np.stack(layers).shape == (3, len(floor.triangles), 3, 2)
     layers[2][:] = -1.0
-    np.testing.assert_array_equal(layers[2], every[together.part_triangles(1), 2])
+    np.testing.assert_array_equal(layers[2], every[together.part_triangles(1), 2].astype(np.float32))
     with pytest.raises(IndexError):
         layers[3]
     floor_texels = together.layout.part_of_texel() == 1
