@@ -59,7 +59,10 @@ def sealed_triangles(positions, triangles, max_opening=MAX_OPENING, vertex_piece
     piece = np.asarray(vertex_piece)[triangles[:, 0]]
     pieces = int(piece.max()) + 1
     centre = 0.5 * (column_min(positions) + column_max(positions))            # only for precision
-    a, b, c = ((positions[triangles[:, k]] - centre).T for k in range(3))       # (3, t) each
+    # (3, t) each, gathered a coordinate at a time from contiguous columns: the rows' (t, 3).T is strided, and
+    # every product below read it so (the same values either way)
+    columns = [np.ascontiguousarray(positions[:, k]) - centre[k] for k in range(3)]
+    a, b, c = (np.stack([column[corner] for column in columns]) for corner in np.ascontiguousarray(triangles.T))
     u, v = b - a, c - a
     cross = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])   # 2 * area * normal
     twice_area = np.sqrt(cross[0] ** 2 + cross[1] ** 2 + cross[2] ** 2)
