@@ -93,11 +93,15 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     long = np.flatnonzero(r1 - r0 > 1)
     whole = np.flatnonzero(r1 - r0 <= 1)
     whole_low, whole_high, whole_first = member_low[whole, 0], member_high[whole, 0], first_row[member_chart[whole]]
-    for whole_row in (r0[whole], r1[whole]):
-        key = whole_first + whole_row
-        np.minimum.at(x_low, key, whole_low)
-        np.maximum.at(x_high, key, whole_high)
-    del whole, whole_low, whole_high, whole_first, chart_low_y, chart_band
+    key = whole_first + r0[whole]
+    np.minimum.at(x_low, key, whole_low)
+    np.maximum.at(x_high, key, whole_high)
+    # the second band, where it is another one (a triangle far smaller than a band mostly lies in one)
+    second = np.flatnonzero(r1[whole] != r0[whole])
+    key = key[second] + 1
+    np.minimum.at(x_low, key, whole_low[second])
+    np.maximum.at(x_high, key, whole_high[second])
+    del whole, whole_low, whole_high, whole_first, key, second, chart_low_y, chart_band
     count = r1[long] - r0[long] + 1
     pair_member = np.repeat(long, count)
     pair_row = np.repeat(r0[long], count) + index_in_runs(count)
