@@ -11,6 +11,14 @@ from seamless_ao.operators.adapters.casters import NodesCaster
 from seamless_ao.operators.adapters.mesh_data import read_triangles
 
 
+def random_rays(seed, count, centre=(0.0, 0.0, 0.0)):
+    """``count`` rays (origins, unit directions) (count, 3) each, from a box 3 units wide about ``centre``."""
+    rng = np.random.default_rng(seed)
+    origins = rng.uniform(-1.5, 1.5, (count, 3)) + centre
+    directions = rng.normal(size=(count, 3))
+    return origins, directions / np.linalg.norm(directions, axis=1, keepdims=True)
+
+
 def test_nodes_caster_hits_a_plane_where_the_closed_form_says(fresh_scene):
     """Rays from z = 0 to a plane z = 1 facing down: distance 1 / cos(theta), front face; the plane is
     missed by rays longer than the maximum distance."""
@@ -37,10 +45,7 @@ def test_nodes_caster_agrees_with_the_bvh_caster_hit_for_hit(fresh_scene):
     """Distance, facing and the sealed flag of the hit triangle (here: every odd triangle, so a caster
     that read the flag of another triangle, or none, would disagree on half the hits)."""
     mesh, _ = read_triangles(suzanne(1).data)
-    rng = np.random.default_rng(1)
-    origins = rng.uniform(-1.5, 1.5, (4000, 3))
-    directions = rng.normal(size=(4000, 3))
-    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    origins, directions = random_rays(1, 4000)
     flags = np.arange(len(mesh.triangles)) % 2 == 1
     nodes = NodesCaster(mesh.positions, mesh.triangles, flags)
     try:
@@ -63,10 +68,7 @@ def test_a_big_occluders_bvh_is_built_by_one_ray_before_its_first_batch_and_chan
     alone, once per BVH: again after the Raycast set-up is let go of (the occluder's copy drops the BVH).  The
     hits are those of a caster that casts the batch at once."""
     mesh, _ = read_triangles(suzanne(1).data)
-    rng = np.random.default_rng(2)
-    origins = rng.uniform(-1.5, 1.5, (3000, 3))
-    directions = rng.normal(size=(3000, 3))
-    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    origins, directions = random_rays(2, 3000)
     flags = np.arange(len(mesh.triangles)) % 3 == 0
     results = {}
     for least in (len(mesh.triangles) + 1, len(mesh.triangles)):
@@ -116,10 +118,7 @@ def test_a_caster_given_the_copy_of_what_was_read_hits_what_a_mesh_built_anew_hi
     piece = vertex_pieces(positions, triangles)[triangles[:, 0]]
     sealed = piece == np.bincount(piece).argmax()
     assert 0 < sealed.sum() < len(sealed)
-    rng = np.random.default_rng(3)
-    origins = rng.uniform(-1.5, 1.5, (4000, 3)) + [3.0, 0.0, 0.0]
-    directions = rng.normal(size=(4000, 3))
-    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    origins, directions = random_rays(3, 4000, centre=(3.0, 0.0, 0.0))
     hits = []
     for source in (None, occluder_copy(head, depsgraph, arrays)):
         caster = NodesCaster(positions, triangles, sealed, source=source)
