@@ -21,7 +21,7 @@ from ...core.keys import TEMP_PREFIX
 from ...core.rays.ray_setup import BVHCaster, RayCaster
 from ...shaders.raycast_nodes import raycast_group
 from .cycles_caster import CyclesAmbientOcclusion, cycles_enabled
-from .mesh_data import mesh_from_triangles
+from .mesh_data import mesh_from_triangles, remove_present
 
 #: An occluder of at least this many triangles gets its BVH built by a cast of one ray before its first batch.
 #: The Raycast node builds the BVH at its first evaluation.  In Blender 5.0, when that evaluation is a batch of
@@ -169,20 +169,13 @@ class CyclesCaster(CyclesAmbientOcclusion, NodesCaster):
 
 
 def free_casters(casters):
-    """Remove the temporary datablocks of all ``casters`` in one ``bpy.data.batch_remove``: removing
-    them one by one scans every datablock each time (31 ms each with 400 objects baked together)."""
+    """Remove the temporary datablocks of all ``casters`` at once (:func:`.mesh_data.remove_present`)."""
     datablocks = []
     for caster in casters:
-        for datablock in getattr(caster, "_datablocks", ()):
-            try:
-                datablock.name                       # still there?
-                datablocks.append(datablock)
-            except ReferenceError:
-                pass
+        datablocks += getattr(caster, "_datablocks", ())
         if hasattr(caster, "_datablocks"):
             caster._datablocks.clear()
-    if datablocks:
-        bpy.data.batch_remove(datablocks)
+    remove_present(datablocks)
 
 
 def caster_maker(settings):

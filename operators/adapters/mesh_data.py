@@ -104,17 +104,22 @@ def occluder_copy(ob, depsgraph, arrays):
 
 def remove_occluder_copies(copies):
     """Remove the copies' meshes that no caster took over (safe to call twice)."""
-    meshes = []
-    for copy in copies:
-        if copy is None:
-            continue
+    remove_present([copy.mesh for copy in copies if copy is not None])
+
+
+def remove_present(datablocks):
+    """Remove those of ``datablocks`` still there (one removed already is skipped) in one
+    ``bpy.data.batch_remove``: removing them one by one scans every datablock each time (31 ms each with 400
+    objects baked together)."""
+    present = []
+    for datablock in datablocks:
         try:
-            copy.mesh.name                           # still there?
-            meshes.append(copy.mesh)
+            datablock.name                           # still there?
+            present.append(datablock)
         except ReferenceError:
             pass
-    if meshes:
-        bpy.data.batch_remove(meshes)
+    if present:
+        bpy.data.batch_remove(present)
 
 
 def read_uv(mesh, name):
