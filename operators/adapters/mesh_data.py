@@ -70,8 +70,8 @@ def mesh_from_triangles(name, positions, triangles):
 @dataclass
 class OccluderCopy:
     """A temporary copy of an evaluated mesh a bake read, for its ray caster to cast against instead of a mesh
-    built anew from the triangles (:func:`mesh_from_triangles` worked out every edge again: 0.1 to 0.2 s a
-    million triangles).  The copy shares the evaluated mesh's arrays until written to, and has no materials.
+    built anew from the triangles (:func:`mesh_from_triangles`, which has Blender work out every edge again).
+    The copy shares the evaluated mesh's arrays until written to, and has no materials.
 
     Attributes
     ----------
