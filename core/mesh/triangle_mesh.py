@@ -33,13 +33,14 @@ class MeshArrays:
     triangle_face: np.ndarray    # (t,)
     normals_as_read: np.ndarray  # (t, 3, 3) corner normals, as read (not yet sanitised)
     face_count: int = 0
+    vertex_island: np.ndarray = None     # (v,) int, optional
     _mesh: object = field(default=None, init=False, repr=False)
 
     def mesh(self):
         """The :class:`TriangleMesh` (built on first use, then kept)."""
         if self._mesh is None:
             self._mesh = TriangleMesh(self.positions, self.triangles, self.triangle_face, self.normals_as_read,
-                                      face_count=self.face_count)
+                                      face_count=self.face_count, vertex_island=self.vertex_island)
         return self._mesh
 
 
@@ -58,6 +59,10 @@ class TriangleMesh:
     normals_as_read : (t, 3, 3) float
         Shading normal at each triangle corner (flat faces: the face normal),
         as given: Blender's are float32, and some may be zero or not finite.
+    vertex_island : (v,) int or None
+        Each vertex's island where the reader knows it (the triangles joined
+        through shared vertex indices, ``0 ..``: Blender's Mesh Island), for
+        :attr:`vertex_piece` (:func:`.weld.vertex_pieces`' ``islands``).
     corner_normals : (t, 3, 3) float64
         Those normals made unit (:func:`sanitized_normals`), a new array each
         use: a bake's passes take those of the triangles they need
@@ -98,6 +103,7 @@ class TriangleMesh:
     triangle_face: np.ndarray
     normals_as_read: np.ndarray
     face_count: int = 0
+    vertex_island: np.ndarray = None
     # Derived, filled by ``__post_init__``.
     scale: float = field(init=False, default=1.0)
     box: tuple = field(init=False, repr=False, default=None)
@@ -123,6 +129,10 @@ class TriangleMesh:
             raise ValueError("triangles, triangle_face and normals_as_read must have the same length")
         if t and (self.triangles.min() < 0 or self.triangles.max() >= len(self.positions)):
             raise ValueError("triangle vertex index out of range")
+        if self.vertex_island is not None:
+            self.vertex_island = np.ascontiguousarray(self.vertex_island).reshape(-1)
+            if len(self.vertex_island) != len(self.positions):
+                raise ValueError("vertex_island must have one island per vertex")
         if not np.isfinite(self.positions).all():
             raise SeamlessAOError("The mesh has vertices at infinite or undefined (NaN) positions")
         if not self.face_count:
@@ -176,6 +186,7 @@ class TriangleMesh:
             np.concatenate([m.triangle_face + o for m, o in zip(meshes, face_offsets)]),
             np.concatenate([m.normals_as_read for m in meshes]),
             face_count=int(face_offsets[-1]),
+            vertex_island=_concatenated_islands(meshes),
         )
         # each part's normals are made unit against its own triangle normals (the same ones, concatenated)
         for name in ("triangle_cross", "triangle_area", "triangle_normal", "degenerate", "stray"):
@@ -210,7 +221,8 @@ class TriangleMesh:
         million triangles each time."""
         if self._vertex_piece is None:       # meshes put together are pieces apart, whatever touches
             self._vertex_piece = vertex_pieces(self.positions, self.triangles,
-                                               self.part_of_vertex if len(self.part_scale) > 1 else None)
+                                               self.part_of_vertex if len(self.part_scale) > 1 else None,
+                                               islands=self.vertex_island)
         return self._vertex_piece
 
     corner_height = property(lambda self: self.corner_height_of(slice(None)),
@@ -266,6 +278,15 @@ class TriangleMesh:
         live = np.zeros(self.face_count, dtype=bool)
         live[self.triangle_face[~self.degenerate]] = True
         return ~live
+
+
+def _concatenated_islands(meshes):
+    """(v,) int64: the ``vertex_island`` of meshes put together, each mesh's numbered after the last one's;
+    None unless every mesh has them."""
+    if not meshes or any(m.vertex_island is None for m in meshes):
+        return None
+    offsets = np.cumsum([0] + [int(m.vertex_island.max(initial=-1)) + 1 for m in meshes])
+    return np.concatenate([np.asarray(m.vertex_island, dtype=np.int64) + o for m, o in zip(meshes, offsets)])
 
 
 def boxes_near(low, high, lows, highs, reach):

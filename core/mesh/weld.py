@@ -62,20 +62,56 @@ _WELD_DIRECTION = np.array([0.5, 0.31, 0.19])
 _WELD_WINDOW = 8
 
 
-def vertex_pieces(positions, triangles, groups=None):
+def vertex_pieces(positions, triangles, groups=None, islands=None):
     """(v,) int64: the piece of every vertex, pieces being triangles joined through corners at one position
     (:func:`exact_weld`: a box with split normals is one piece); a vertex in no triangle is a piece of its own.
+    Pieces are numbered ``0 ..`` in order of each one's lowest :func:`exact_weld` index.
 
     Parameters
     ----------
     positions : (v, 3) float
     triangles : (t, 3) int
     groups : (v,) int, optional: vertices of different groups never join (meshes put together)
+    islands : (v,) int, optional: each vertex's island, ``0 ..``, when known: the components of the triangles
+        joined through corners with one vertex index (what Blender's Mesh Island node gives for a mesh without
+        loose edges).  The pieces then join islands through vertices at one position, with no pass over the
+        triangles (:func:`pieces_of_islands`); the same pieces, numbered the same.
     """
+    if islands is not None:
+        return pieces_of_islands(positions, islands, groups)
     welded = exact_weld(positions, groups)
     corner = welded[np.asarray(triangles, dtype=np.int64).reshape(-1, 3)]
     piece = connected_components(int(welded.max(initial=-1)) + 1, np.concatenate([corner[:, :2], corner[:, 1:]]))
     return piece[welded]
+
+
+def pieces_of_islands(positions, islands, groups=None):
+    """(v,) int64: :func:`vertex_pieces` from each vertex's island (v,) int, ``0 ..``: islands join where a
+    vertex of one is at the position of a vertex of another (and of the same group, if ``groups``).
+
+    Joining islands is a graph of islands, far fewer than vertices (a 1M-triangle sculpt has a handful); the
+    pieces are then numbered as :func:`vertex_pieces` numbers those it finds from the triangles.
+    """
+    islands = np.asarray(islands, dtype=np.int64).reshape(-1)
+    positions = np.asarray(positions, dtype=np.float64).reshape(-1, 3)
+    if len(islands) != len(positions):
+        raise ValueError("islands must give one island per vertex")
+    if not len(islands):
+        return np.zeros(0, dtype=np.int64)
+    if islands.min() < 0:
+        raise ValueError("islands must be numbered from 0")
+    welded, first = exact_weld(positions, groups, return_first=True)
+    island_count = int(islands.max()) + 1
+    # each vertex joins its island to the island of the first vertex at its position
+    joined = connected_components(island_count, np.stack([islands, islands[first[welded]]], axis=1))
+    piece = joined[islands]
+    # numbered in order of each piece's lowest welded index, as the components of the welded vertices are
+    lowest = np.full(int(piece.max()) + 1, len(positions), dtype=np.int64)
+    np.minimum.at(lowest, piece, welded)
+    present = lowest < len(positions)
+    rank = np.full(len(lowest), -1, dtype=np.int64)
+    rank[np.flatnonzero(present)[np.argsort(lowest[present], kind="stable")]] = np.arange(int(present.sum()))
+    return rank[piece]
 
 
 def weld_vertices(positions, tolerance, groups=None):

@@ -32,8 +32,8 @@ from ..background.client import BackgroundBake
 from .casters import caster_maker, free_casters
 from .checks import check_objects, check_unchanged, mesh_fingerprint
 from .cycles_caster import cycles_enabled
-from .mesh_data import (EvaluatedCorners, occluder_copy, read_object, remove_occluder_copies, render_evaluation,
-                        scene_occluders, world_boxes)
+from .mesh_data import (EvaluatedCorners, islands_as_read, occluder_copy, read_object, remove_occluder_copies,
+                        render_evaluation, scene_occluders, world_boxes)
 from .scene_settings import settings_from
 from .writes import Transaction, corner_uv, image_file_path, save_image_file
 
@@ -214,7 +214,10 @@ class BakeSession:
                 if not len(arrays.triangles):
                     raise SeamlessAOError("'{}' has no faces to bake as it renders (its modifiers leave none)".format(
                         ob.name))
-                self.occluder_copies.append(occluder_copy(ob, depsgraph, arrays) if copying else None)
+                copy = occluder_copy(ob, depsgraph, arrays) if copying else None
+                self.occluder_copies.append(copy)
+                # Blender joins the mesh's faces into islands on all cores: its pieces need not join the triangles
+                arrays.vertex_island = islands_as_read(ob, depsgraph, arrays, copy)
                 matrix = np.array(ob.matrix_world, dtype=np.float64)
                 meshes.append(arrays)
                 baked.append(BakedObject(ob, loops, matrix, corners, not on_base or users[ob.data] > 1))

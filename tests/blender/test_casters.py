@@ -153,6 +153,44 @@ def test_a_bake_casts_against_the_copy_where_its_occluders_are_the_mesh_alone(ad
     assert built == [1, 1]
 
 
+def test_blenders_islands_give_the_pieces_of_the_triangles_and_none_with_a_loose_edge(addon, fresh_scene,
+                                                                                      monkeypatch):
+    """Mesh Island on a copy of what was read: two boxes, one of them with every face its own vertices (an
+    import's), and a loose vertex; the pieces from its islands are those the triangles make.  A loose edge
+    joining the boxes would join their islands, which the triangles do not: no islands then.  A bake hands
+    the islands to the mesh it lays out."""
+    import bpy
+
+    import meshes
+    from seamless_ao.core.keys import TEMP_PREFIX
+    from seamless_ao.core.mesh import triangle_mesh
+    from seamless_ao.core.mesh.weld import vertex_pieces
+    from seamless_ao.operators.adapters.mesh_data import vertex_islands
+
+    positions, triangles = meshes.box(subdivisions=2)
+    split_positions, split_triangles = meshes.split_vertices(positions + [3.0, 0.0, 0.0], triangles)
+    points = np.vstack([positions, split_positions, [[9.0, 9.0, 9.0]]])
+    faces = np.vstack([triangles, split_triangles + len(positions)])
+    found = []
+    for edges in ([], [(0, len(positions))]):
+        mesh = bpy.data.meshes.new("boxes")
+        mesh.from_pydata(points.tolist(), edges, faces.tolist())
+        found.append(vertex_islands(mesh))
+        bpy.data.meshes.remove(mesh)
+    islands, none = found
+    assert none is None
+    assert len(islands) == len(points) and int(islands.max()) + 1 > len(split_triangles) + 2
+    assert np.array_equal(vertex_pieces(points, faces, islands=islands), vertex_pieces(points, faces))
+    assert not [d for kind in (bpy.data.scenes, bpy.data.objects, bpy.data.node_groups) for d in kind
+                if d.name.startswith(TEMP_PREFIX)]
+    given = []
+    pieces = triangle_mesh.vertex_pieces
+    monkeypatch.setattr(triangle_mesh, "vertex_pieces",
+                        lambda *args, islands=None: given.append(islands) or pieces(*args, islands=islands))
+    addon.bake([suzanne(1)], image_size=256, rays=1)
+    assert given and all(islands is not None for islands in given)
+
+
 def test_a_bake_of_many_objects_leaves_no_temporary_datablock(addon, fresh_scene):
     """Each object gets a caster (a scene, two objects, two meshes and a node group of its own); all of
     them go in one batch_remove after the rays, after a cancel too."""

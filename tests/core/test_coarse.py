@@ -11,6 +11,7 @@ from seamless_ao.core.charts.coarse import (FINE_PROXY_CELL_TEXELS, FINE_PROXY_F
 from seamless_ao.core.layout import build_layout
 from seamless_ao.core.mesh.adjacency import face_adjacency
 from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
+from seamless_ao.core.arrays.graph import connected_components
 from seamless_ao.core.mesh.weld import vertex_pieces
 
 
@@ -52,6 +53,38 @@ def test_pieces_are_triangles_joined_through_corners_at_one_position():
     together, _ = TriangleMesh.concatenate(parts)
     assert len(set(together.vertex_piece.tolist())) == 2
     assert len(set(vertex_pieces(together.positions, together.triangles).tolist())) == 1
+
+
+def test_pieces_from_the_islands_a_reader_gives_are_those_of_the_triangles_numbered_alike():
+    """Islands (the triangles joined through one vertex index: Blender's Mesh Island) in any numbering, joined
+    where vertices share a position: the pieces :func:`vertex_pieces` finds from the triangles, the same
+    numbers, with groups too; a vertex in no triangle is a piece of its own, or of the piece at its position."""
+    rng = np.random.default_rng(3)
+    positions, triangles = meshes.box(subdivisions=3)
+    split_positions, split_triangles = meshes.split_vertices(positions + [3.0, 0.0, 0.0], triangles)
+    loose = np.array([[9.0, 9.0, 9.0], positions[5]])                  # alone, and at a vertex of the first box
+    all_positions = np.vstack([positions, split_positions, loose])
+    all_triangles = np.vstack([triangles, split_triangles + len(positions)])
+    order = rng.permutation(len(all_positions))                         # vertex order says nothing
+    all_positions, all_triangles = all_positions[order], np.argsort(order)[all_triangles]
+    by_index = connected_components(len(all_positions), np.vstack([all_triangles[:, :2], all_triangles[:, 1:]]))
+    islands = rng.permutation(int(by_index.max()) + 1)[by_index]       # Blender numbers them its own way
+    assert int(islands.max()) + 1 > len(split_triangles) + 2            # every split triangle an island at least
+    for groups in (None, (all_positions[:, 0] > 1.0).astype(np.int64)):
+        expected = vertex_pieces(all_positions, all_triangles, groups)
+        assert len(set(expected.tolist())) == 3
+        assert np.array_equal(vertex_pieces(all_positions, all_triangles, groups, islands=islands), expected)
+    # a mesh given its islands keeps them, and meshes put together number theirs apart
+    mesh = TriangleMesh(all_positions, all_triangles, np.arange(len(all_triangles)),
+                        np.ones((len(all_triangles), 3, 3)), vertex_island=islands)
+    assert np.array_equal(mesh.vertex_piece, vertex_pieces(all_positions, all_triangles))
+    together, _ = TriangleMesh.concatenate([mesh, mesh])
+    plain, _ = TriangleMesh.concatenate([TriangleMesh(all_positions, all_triangles, mesh.triangle_face,
+                                                      mesh.normals_as_read)] * 2)
+    assert together.vertex_island is not None and plain.vertex_island is None
+    assert np.array_equal(together.vertex_piece, plain.vertex_piece)
+    with pytest.raises(ValueError, match="one island per vertex"):
+        TriangleMesh(all_positions, all_triangles, mesh.triangle_face, mesh.normals_as_read, vertex_island=islands[1:])
 
 
 def test_the_proxy_is_finer_for_many_rays_where_the_mesh_is_that_much_finer_still():
