@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..arrays.geometry2d import band_x_extent, boxes_of_groups, corner_max, corner_min
+from ..arrays.geometry2d import band_x_extent
 from ..arrays.graph import index_in_runs
 
 #: Most bands per chart (a chart's cover has twice as many triangles).
@@ -53,6 +53,20 @@ class Covers:
         return np.where(np.isfinite(self.low), self.high - self.low, 0.0)
 
 
+def _corner_extreme(ufunc, local_uv, axis):
+    """(m,) float64: ``ufunc`` (np.minimum or np.maximum) of the three corners' coordinate ``axis`` of each
+    triangle ``local_uv`` (m, 3, 2), in a contiguous array."""
+    extreme = ufunc(local_uv[:, 0, axis], local_uv[:, 1, axis])
+    return ufunc(extreme, local_uv[:, 2, axis], out=extreme)
+
+
+def _group_extreme(ufunc, values, group, count):
+    """(count,) float64: ``ufunc`` of ``values`` (m,) over each group (``inf`` or ``-inf`` for an empty one)."""
+    out = np.full(count, np.inf if ufunc is np.minimum else -np.inf)
+    ufunc.at(out, group, values)
+    return out
+
+
 def chart_covers(local_uv, member_chart, chart_count, expected_density):
     """Row bands of every chart.
 
@@ -72,36 +86,42 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     Covers
     """
     member_chart = np.asarray(member_chart, dtype=np.int64)
-    # each member's box, once: the charts' boxes, the bands and whole triangles' x-extents all read it
-    member_low, member_high = corner_min(local_uv), corner_max(local_uv)             # (m, 2) each
-    low, high = boxes_of_groups(member_low, member_high, member_chart, chart_count)
+    # each member's box, once, a coordinate at a time into contiguous columns (every pass below reads them
+    # whole): the charts' boxes, the bands and whole triangles' x-extents all read it
+    member_low = [_corner_extreme(np.minimum, local_uv, axis) for axis in range(2)]           # x, y (m,) each
+    member_high = [_corner_extreme(np.maximum, local_uv, axis) for axis in range(2)]
+    low = np.stack([_group_extreme(np.minimum, column, member_chart, chart_count) for column in member_low], axis=1)
+    high = np.stack([_group_extreme(np.maximum, column, member_chart, chart_count) for column in member_high],
+                    axis=1)
     height = np.where(np.isfinite(low[:, 1]), high[:, 1] - low[:, 1], 0.0)
     rows = np.clip(np.ceil(height * expected_density / ROW_TEXELS), 1, MAX_ROWS).astype(np.int64)
     first_row = np.concatenate([[0], np.cumsum(rows)[:-1]])
     band = np.where(height > 0, height / rows, 1.0)                          # (c,) band height
 
-    x_low = np.full(int(rows.sum()), np.inf)
-    x_high = np.full(int(rows.sum()), -np.inf)
+    # one more band at the end, where the triangles clipped band by band go in the pass over whole ones
+    x_low = np.full(int(rows.sum()) + 1, np.inf)
+    x_high = np.full(int(rows.sum()) + 1, -np.inf)
     # the band of each member's lowest and highest point
     chart_low_y, chart_band = low[member_chart, 1], band[member_chart]
     last = rows[member_chart] - 1
-    r0 = np.clip(np.floor((member_low[:, 1] - chart_low_y) / chart_band), 0, last).astype(np.int64)
-    r1 = np.clip(np.floor((member_high[:, 1] - chart_low_y) / chart_band), 0, last).astype(np.int64)
+    r0 = np.clip(np.floor((member_low[1] - chart_low_y) / chart_band), 0, last).astype(np.int64)
+    r1 = np.clip(np.floor((member_high[1] - chart_low_y) / chart_band), 0, last).astype(np.int64)
+    del chart_low_y, chart_band
     # A triangle touching one or two bands adds its own x-extent to each (conservative by less
     # than its width), straight from its box; only triangles spanning more bands are clipped to each
     # band exactly, one (member, band) pair at a time.
     long = np.flatnonzero(r1 - r0 > 1)
-    whole = np.flatnonzero(r1 - r0 <= 1)
-    whole_low, whole_high, whole_first = member_low[whole, 0], member_high[whole, 0], first_row[member_chart[whole]]
-    key = whole_first + r0[whole]
-    np.minimum.at(x_low, key, whole_low)
-    np.maximum.at(x_high, key, whole_high)
+    key = first_row[member_chart] + r0
+    key[long] = len(x_low) - 1
+    np.minimum.at(x_low, key, member_low[0])
+    np.maximum.at(x_high, key, member_high[0])
     # the second band, where it is another one (a triangle far smaller than a band mostly lies in one)
-    second = np.flatnonzero(r1[whole] != r0[whole])
+    second = np.flatnonzero(r1 - r0 == 1)
     key = key[second] + 1
-    np.minimum.at(x_low, key, whole_low[second])
-    np.maximum.at(x_high, key, whole_high[second])
-    del whole, whole_low, whole_high, whole_first, key, second, chart_low_y, chart_band
+    np.minimum.at(x_low, key, member_low[0][second])
+    np.maximum.at(x_high, key, member_high[0][second])
+    x_low, x_high = x_low[:-1], x_high[:-1]
+    del key, second, member_low, member_high
     count = r1[long] - r0[long] + 1
     pair_member = np.repeat(long, count)
     pair_row = np.repeat(r0[long], count) + index_in_runs(count)

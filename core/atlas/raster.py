@@ -27,7 +27,7 @@ import numpy as np
 
 from ..arrays.geometry2d import (band_x_extent, box_holds_texel_centre, closest_barycentric, corner_max, corner_min,
                                  point_keys, triangle_score)
-from ..arrays.graph import index_in_runs, index_type, sort_order
+from ..arrays.graph import group_starts, index_in_runs, index_type, sort_order
 from ..arrays.grid import neighbour_texels, neighbour_values
 
 COVERED, NEAR, PADDING = 0, 1, 2
@@ -304,12 +304,17 @@ def _rows(y0, y1):
 
 
 def _best_per_texel(texel, score, owner):
-    """For each distinct texel, the entry with the highest score (ties: first)."""
-    order = np.lexsort((-score, texel))
-    texel, score, owner = texel[order], score[order], owner[order]
-    first = np.ones(len(texel), dtype=bool)
-    first[1:] = texel[1:] != texel[:-1]
-    return texel[first], score[first], owner[first]
+    """For each distinct texel (k,) int >= 0, in texel order, the entry with the highest score (ties, or all NaN:
+    the first): one stable sort by texel, then each run's best (sorting by score too took four times as long)."""
+    if not len(texel):
+        return texel, score, owner
+    order = sort_order(texel)
+    sorted_texel, sorted_score = texel[order], score[order]
+    bounds = group_starts(sorted_texel)
+    best = np.repeat(np.fmax.reduceat(sorted_score, bounds[:-1]), np.diff(bounds))
+    at = np.flatnonzero((sorted_score == best) | np.isnan(best))
+    pick = order[at[np.concatenate([[True], sorted_texel[at[1:]] != sorted_texel[at[:-1]]])]]
+    return texel[pick], score[pick], owner[pick]
 
 
 def expand_spans(row_y, x_start, x_end, owner, width):

@@ -181,6 +181,12 @@ def axis_cosines(vectors):
     return cosines
 
 
+def nearest_signed_axis(vectors):
+    """(n,) int64: ``np.argmax(axis_cosines(vectors), axis=1)`` (0 +X .. 5 -Z, the first of equals), no (n, 6)."""
+    axis = np.argmax(np.abs(vectors), axis=1)
+    return 2 * axis + (np.take_along_axis(vectors, axis[:, None], axis=1)[:, 0] < 0.0)
+
+
 def face_axis_cosines(mesh, face_normal):
     """Per-face cosines to the six signed axes, from ``face_normal`` (f, 3), :attr:`mesh.face_normal`.
 

@@ -40,7 +40,8 @@ from ..arrays.reduce import row_length, row_max
 from ..mesh.adjacency import Topology, face_adjacency
 from ..mesh.proxy import grid_clusters, proxy_triangles
 from ..mesh.triangle_mesh import MeshArrays, MeshReport
-from .clustering import Charts, _renumber, axis_cosines, cut_long_charts, make_injective, signed_axis_clusters
+from .clustering import (Charts, _renumber, cut_long_charts, make_injective, nearest_signed_axis,
+                         signed_axis_clusters)
 
 #: A single mesh is laid out on a proxy when it has at least this many live triangles per texel its layout is
 #: expected to cover (the bake's estimate, before any chart is made).
@@ -194,7 +195,7 @@ def faces_from_proxy(mesh, cluster_of_vertex, proxy, proxy_normal, proxy_of_tria
     first_triangle[mesh.triangle_face[::-1]] = np.arange(len(mesh.triangles))[::-1]
     face_normal = mesh.face_normal
     live = row_length(face_normal) > 0.0
-    signed = np.argmax(axis_cosines(face_normal), axis=1)
+    signed = nearest_signed_axis(face_normal)
     # a proxy triangle too small to have a normal is in no chart: its faces look around instead
     proxy_live = proxy_charts.dominant_axis >= 0
     taken = proxy_of_triangle[first_triangle]
@@ -213,12 +214,14 @@ def faces_from_proxy(mesh, cluster_of_vertex, proxy, proxy_normal, proxy_of_tria
         bounds = group_starts(ring_cluster)
         start, size = bounds[:-1], np.diff(bounds)
         position = np.arange(len(order))
-        score = axis_cosines(proxy_normal[ring_triangle])                      # (r, 6)
-        for axis_sign in range(6):
-            highest = np.maximum.reduceat(score[:, axis_sign], start)
-            at_highest = score[:, axis_sign] == np.repeat(highest, size)
-            first = np.minimum.reduceat(np.where(at_highest, position, len(order)), start)
-            best[ring_cluster[start], axis_sign] = ring_triangle[first]
+        for axis in range(3):
+            # the score along +axis and -axis: what axis_cosines gives, a contiguous column at a time
+            along = np.ascontiguousarray(proxy_normal[:, axis])[ring_triangle]
+            for axis_sign, score in ((2 * axis, along), (2 * axis + 1, np.negative(along))):
+                highest = np.maximum.reduceat(score, start)
+                at_highest = score == np.repeat(highest, size)
+                first = np.minimum.reduceat(np.where(at_highest, position, len(order)), start)
+                best[ring_cluster[start], axis_sign] = ring_triangle[first]
     looking = np.flatnonzero((taken < 0) & live)
     for corner in range(3):
         found = best[cluster_of_vertex[mesh.triangles[first_triangle[looking], corner]], signed[looking]]

@@ -7,8 +7,21 @@ import meshes
 from layout_checks import check_charts, overlaps_per_axis, surface_normals
 from seamless_ao.core.arrays import blocks
 from seamless_ao.core.mesh.adjacency import face_adjacency
-from seamless_ao.core.charts.clustering import AXES, BASES, cluster_faces, project, signed_axis_clusters
+from seamless_ao.core.charts.clustering import (AXES, BASES, axis_cosines, cluster_faces, nearest_signed_axis, project,
+                                                signed_axis_clusters)
 from seamless_ao.core.mesh.triangle_mesh import TriangleMesh
+
+
+def test_the_nearest_signed_axis_is_the_first_largest_cosine():
+    """Random vectors, and ties between axes and signs, zeros of either sign and NaN: what argmax over the six
+    cosines picks, its first of equals."""
+    rng = np.random.default_rng(7)
+    vectors = np.vstack([rng.normal(size=(5000, 3)), rng.integers(-1, 2, (500, 3)) * 0.5,
+                         [[0.0, 0.0, 0.0], [-0.0, 0.0, -0.0], [-0.5, 0.5, 0.0], [0.5, -0.5, -0.5], [np.nan, 1.0, 0.0],
+                          [1.0, np.nan, 0.0], [-0.0, -0.0, -1e-300]]])
+    expected = np.argmax(axis_cosines(vectors), axis=1)
+    assert np.array_equal(nearest_signed_axis(vectors), expected)
+    assert set(expected.tolist()) == set(range(6))
 
 
 def test_sphere_charts_and_overlap_at_45_degrees():
