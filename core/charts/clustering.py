@@ -169,10 +169,9 @@ class Charts:
 
 
 def axis_cosines(vectors):
-    """(n, 6) float64: ``vectors @ AXES.T`` for (n, 3) ``vectors``, each one's component along +X, -X, +Y, -Y,
-    +Z and -Z, written a column at a time: the same values (a zero's sign aside), with no matrix product.
-    numpy hands a product to OpenBLAS's threads, and on a 2-core machine whose cores are shared waking them
-    took 5 to 50 ms for 125k rows (the copies take 3)."""
+    """(n, 6) float64: ``vectors @ AXES.T`` for (n, 3) ``vectors`` (along +X, -X, +Y, -Y, +Z, -Z), a column at a
+    time, no matrix product: numpy hands one to OpenBLAS's threads, which on 2 shared cores took 5 to 50 ms to
+    wake for 125k rows (the copies take 3)."""
     vectors = np.asarray(vectors, dtype=np.float64).reshape(-1, 3)
     cosines = np.empty((len(vectors), 6))
     for axis in range(3):
@@ -183,7 +182,9 @@ def axis_cosines(vectors):
 
 def nearest_signed_axis(vectors):
     """(n,) int64: ``np.argmax(axis_cosines(vectors), axis=1)`` (0 +X .. 5 -Z, the first of equals), no (n, 6)."""
-    axis = np.argmax(np.abs(vectors), axis=1)
+    x, y, z = (np.abs(vectors[:, k]) for k in range(3))
+    axis = np.where(z > np.maximum(x, y), 2, (y > x).astype(np.int64))
+    axis[np.isnan(z)], axis[np.isnan(y)], axis[np.isnan(x)] = 2, 1, 0     # argmax's largest: the first NaN
     return 2 * axis + (np.take_along_axis(vectors, axis[:, None], axis=1)[:, 0] < 0.0)
 
 
@@ -437,12 +438,12 @@ def _renumber(charts):
     """Drop unused chart ids; number charts by axis, then by their smallest face."""
     used = []
     for axis in range(3):
-        column = charts.chart_of_face[:, axis]
+        column = charts.chart_of_face[:, axis]           # each chart's smallest face: a scatter, not a sort
         member = np.flatnonzero(column >= 0)
-        _, first = np.unique(column[member], return_index=True)
-        old = column[member[np.sort(first)]]
-        used.append(old)
-    old_ids = np.concatenate(used) if used else np.zeros(0, dtype=np.int64)
+        first_face = np.full(len(charts.chart_axis), len(column), dtype=np.int64)
+        np.minimum.at(first_face, column[member], member)
+        used.append(np.argsort(first_face, kind="stable")[:np.count_nonzero(first_face < len(column))])
+    old_ids = np.concatenate(used)
     mapping = np.full(len(charts.chart_axis) + 1, -1, dtype=np.int64)
     mapping[old_ids] = np.arange(len(old_ids))
     chart_of_face = mapping[charts.chart_of_face]        # -1 maps to mapping[-1] == -1
