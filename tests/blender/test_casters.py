@@ -219,3 +219,22 @@ def test_a_bake_of_many_objects_leaves_no_temporary_datablock(addon, fresh_scene
     else:
         raise AssertionError("the bake was not cancelled")
     assert casting and temporary() == []
+
+
+def test_triangles_are_read_as_blenders_own_whether_every_face_is_a_triangle_or_not(fresh_scene):
+    """An all-triangle mesh's triangles are its faces' corners in order, with no call per triangle; a mesh of
+    quads, triangles and an n-gon goes through Blender's triangulation.  Either way: what loop_triangles says."""
+    import bpy
+
+    from seamless_ao.operators.adapters.mesh_data import triangle_loops
+
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3)
+    triangles_only = bpy.context.active_object.data
+    bpy.ops.mesh.primitive_cylinder_add(vertices=7)              # 7 quads, two 7-gons
+    mixed = bpy.context.active_object.data
+    for mesh, all_triangles in ((triangles_only, True), (mixed, False)):
+        assert (len(mesh.loops) == 3 * len(mesh.polygons)) == all_triangles
+        mesh.calc_loop_triangles()
+        blenders = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
+        mesh.loop_triangles.foreach_get("loops", blenders)
+        assert np.array_equal(triangle_loops(mesh), blenders.reshape(-1, 3))
