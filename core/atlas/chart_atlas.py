@@ -17,6 +17,7 @@ import numpy as np
 
 from ..arrays.blocks import row_blocks
 from ..arrays.graph import index_type
+from ..arrays.reduce import row_all
 from ..charts.clustering import project_corners
 from ..errors import SeamlessAOError
 from .cover import chart_covers
@@ -337,7 +338,7 @@ def _adopt_orphans(mesh, topology, charts):
     Returns ``(triangles, charts)`` as (k,) int64 arrays; a face with no
     charted neighbour takes chart 0 (it is too small to show anything).
     """
-    dead_face = (charts.chart_of_face < 0).all(axis=1)
+    dead_face = row_all(charts.chart_of_face < 0)
     if not dead_face.any():
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     dominant_chart = charts.dominant_chart()

@@ -29,6 +29,7 @@ from ..arrays.geometry2d import (band_x_extent, box_holds_texel_centre, closest_
                                  point_keys, triangle_score)
 from ..arrays.graph import group_starts, index_in_runs, index_type, sort_order
 from ..arrays.grid import neighbour_texels, neighbour_values
+from ..arrays.reduce import row_all
 
 COVERED, NEAR, PADDING = 0, 1, 2
 #: Points on a triangle's rim move this far (times the object size) into it: twice
@@ -161,7 +162,7 @@ def rim_triangles(corner_key):
     pair[1:] |= two
     inside = np.empty(len(order), dtype=bool)
     inside[order] = pair
-    return ~inside.reshape(-1, 3).all(axis=1)
+    return ~row_all(inside.reshape(-1, 3))
 
 
 def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel=None, fixed_member=None, rim=None):

@@ -17,7 +17,7 @@ proxy against the whole mesh.
 import numpy as np
 
 from ..arrays.graph import row_labels
-from ..arrays.reduce import column_min
+from ..arrays.reduce import column_min, row_all
 
 #: Cube indices are clipped to this many cubes from the mesh's lowest corner: a stray vertex 10^18 out at a
 #: cell of 10^-3 would otherwise overflow int64 (far vertices then share the last cube; they are strays).
@@ -46,7 +46,7 @@ def grid_clusters(positions, cell, groups=None):
         raise ValueError("cell must be positive, got {!r}".format(cell))
     if not len(positions):
         return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
-    finite = np.isfinite(positions).all(axis=1)
+    finite = row_all(np.isfinite(positions))
     low = column_min(positions[finite]) if finite.any() else np.zeros(3)
     cube = np.floor((np.where(finite[:, None], positions, low) - low) / cell)
     cube = np.clip(cube, 0.0, float(FARTHEST_CUBE)).astype(np.int64)

@@ -4,7 +4,7 @@
 import numpy as np
 
 from ..arrays.graph import connected_components, group_starts, scatter_rows
-from ..arrays.reduce import column_max
+from ..arrays.reduce import column_max, row_any
 
 
 def exact_weld(positions, groups=None, return_first=False):
@@ -38,7 +38,7 @@ def exact_weld(positions, groups=None, return_first=False):
     order = np.argsort(key)                     # hashes are in no order: numpy's unstable sort is far faster
     ordered = positions[order]
     new = np.ones(count, dtype=bool)
-    new[1:] = (key[order][1:] != key[order][:-1]) | (ordered[1:] != ordered[:-1]).any(axis=1)
+    new[1:] = (key[order][1:] != key[order][:-1]) | row_any(ordered[1:] != ordered[:-1])
     if groups is not None:
         new[1:] |= groups[order][1:] != groups[order][:-1]
     welded = np.empty(count, dtype=np.int64)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from seamless_ao.core.arrays.geometry2d import corner_max, corner_min
-from seamless_ao.core.arrays.reduce import column_max, column_min, row_length, row_max
+from seamless_ao.core.arrays.reduce import column_max, column_min, row_all, row_any, row_length, row_max
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32, np.int64])
@@ -19,6 +19,17 @@ def test_narrow_reductions_are_numpys_along_each_axis_nan_and_all(dtype):
         got, expected = ours(values), numpys(values)
         assert got.dtype == expected.dtype and got.shape == expected.shape
         assert np.array_equal(got.view(np.uint8), expected.view(np.uint8)), ours.__name__
+
+
+@pytest.mark.parametrize("columns", [1, 2, 3])
+def test_row_all_and_any_are_numpys(columns):
+    values = np.random.default_rng(columns).random((1000, columns)) < 0.6
+    given = values.copy()
+    for ours, numpys in ((row_all, lambda v: v.all(axis=1)), (row_any, lambda v: v.any(axis=1))):
+        got, expected = ours(values), numpys(values)
+        assert got.dtype == expected.dtype and np.array_equal(got, expected), ours.__name__
+        assert 0 < got.sum() < len(got) and np.array_equal(values, given)       # the input left as it was
+        assert np.array_equal(ours(values[:0]), numpys(values[:0]))
 
 
 @pytest.mark.parametrize("shape", [(1000, 3, 2), (1000, 2, 3), (1000, 3), (1000, 2), (0, 3, 2)])
