@@ -34,7 +34,7 @@ def row_max(values):
 
 def row_all(values):
     """``values.all(axis=1)``: ``values`` (n, k) bool, k >= 1 -> (n,), a column at a time (numpy's goes row
-    by row: 18 ms for a million rows of three, against 2)."""
+    by row, k items at a time)."""
     values = np.asarray(values)
     every = values[:, 0].copy()
     for column in range(1, values.shape[1]):

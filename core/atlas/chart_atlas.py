@@ -324,7 +324,7 @@ def _apply(maps, chart, points):
     """``points`` (m, k, 2), each moved by the map ``(scale (c,), shift (c, 2))`` of its ``chart`` (m,) int
     (:meth:`.packing.Placement.maps`: ``scale * u + shift``), in place; returns ``points``.  A block of members
     at a time (:func:`..arrays.blocks.row_blocks`): the gathered scales and shifts stay small; the shift a
-    coordinate at a time (added over a trailing axis of two, numpy goes two items at a time: half as slow again)."""
+    coordinate at a time (added over a trailing axis of two, numpy goes two items at a time)."""
     scale, shift = maps
     shift_u, shift_v = np.ascontiguousarray(shift[:, 0]), np.ascontiguousarray(shift[:, 1])
     for rows in row_blocks(len(points)):

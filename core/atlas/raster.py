@@ -306,7 +306,7 @@ def _rows(y0, y1):
 
 def _best_per_texel(texel, score, owner):
     """For each distinct texel (k,) int >= 0, in texel order, the entry with the highest score (ties, or all NaN:
-    the first): one stable sort by texel, then each run's best (sorting by score too took four times as long)."""
+    the first): one stable sort by texel, then each run's best (no sort by the score, a float, too)."""
     if not len(texel):
         return texel, score, owner
     order = sort_order(texel)
