@@ -1,7 +1,7 @@
 """The Geometry Nodes group that reads a mesh's islands (:func:`..operators.adapters.mesh_data.vertex_islands`):
 each point's Mesh Island index, stored as the point attribute :data:`ISLAND_ATTRIBUTE`."""
 
-import bpy
+from .raycast_nodes import geometry_group
 
 #: The point attribute the group stores each vertex's island in (on the evaluated copy only).
 ISLAND_ATTRIBUTE = "seamless_ao_island"
@@ -10,11 +10,8 @@ ISLAND_ATTRIBUTE = "seamless_ao_island"
 def island_group(name):
     """A new Geometry Nodes group ``name`` storing each point's island index (Blender's Mesh Island node: points
     joined by edges) as the integer point attribute :data:`ISLAND_ATTRIBUTE`."""
-    group = bpy.data.node_groups.new(name, "GeometryNodeTree")
-    group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-    group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    group, group_in, group_out = geometry_group(name)
     nodes, links = group.nodes, group.links
-    group_in, group_out = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
     island = nodes.new("GeometryNodeInputMeshIsland")
     store = nodes.new("GeometryNodeStoreNamedAttribute")
     store.data_type = "INT"

@@ -5,14 +5,20 @@ or -1 on a miss, the hit normal's dot with the ray, the ``sealed`` attribute of 
 import bpy
 
 
-def raycast_group(name, occluder):
-    """A new Geometry Nodes group ``name`` casting against object ``occluder``: ``(group, its Raycast node)``
-    (whose Ray Length the caster sets for each batch)."""
+def geometry_group(name):
+    """A new Geometry Nodes group ``name`` with one geometry in and one out, for a temporary evaluation:
+    ``(group, its Group Input node, its Group Output node)``."""
     group = bpy.data.node_groups.new(name, "GeometryNodeTree")
     group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
     group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    return group, group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
+
+
+def raycast_group(name, occluder):
+    """A new Geometry Nodes group ``name`` casting against object ``occluder``: ``(group, its Raycast node)``
+    (whose Ray Length the caster sets for each batch)."""
+    group, group_in, group_out = geometry_group(name)
     nodes, links = group.nodes, group.links
-    group_in, group_out = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
     target = nodes.new("GeometryNodeObjectInfo")
     target.inputs["Object"].default_value = occluder
     direction = nodes.new("GeometryNodeInputNamedAttribute")
