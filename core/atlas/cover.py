@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..arrays.geometry2d import band_x_extent
+from ..arrays.geometry2d import band_x_extent, corner_max, corner_min
 from ..arrays.graph import index_in_runs
 
 #: Most bands per chart (a chart's cover has twice as many triangles).
@@ -53,13 +53,6 @@ class Covers:
         return np.where(np.isfinite(self.low), self.high - self.low, 0.0)
 
 
-def _corner_extreme(ufunc, local_uv, axis):
-    """(m,) float64: ``ufunc`` (np.minimum or np.maximum) of the three corners' coordinate ``axis`` of each
-    triangle ``local_uv`` (m, 3, 2), in a contiguous array."""
-    extreme = ufunc(local_uv[:, 0, axis], local_uv[:, 1, axis])
-    return ufunc(extreme, local_uv[:, 2, axis], out=extreme)
-
-
 def _group_extreme(ufunc, values, group, count):
     """(count,) float64: ``ufunc`` of ``values`` (m,) over each group (``inf`` or ``-inf`` for an empty one)."""
     out = np.full(count, np.inf if ufunc is np.minimum else -np.inf)
@@ -88,8 +81,8 @@ def chart_covers(local_uv, member_chart, chart_count, expected_density):
     member_chart = np.asarray(member_chart, dtype=np.int64)
     # each member's box, once, a coordinate at a time into contiguous columns (every pass below reads them
     # whole): the charts' boxes, the bands and whole triangles' x-extents all read it
-    member_low = [_corner_extreme(np.minimum, local_uv, axis) for axis in range(2)]           # x, y (m,) each
-    member_high = [_corner_extreme(np.maximum, local_uv, axis) for axis in range(2)]
+    member_low = [corner_min(local_uv[..., axis]).ravel() for axis in range(2)]          # x, y (m,) each
+    member_high = [corner_max(local_uv[..., axis]).ravel() for axis in range(2)]
     low = np.stack([_group_extreme(np.minimum, column, member_chart, chart_count) for column in member_low], axis=1)
     high = np.stack([_group_extreme(np.maximum, column, member_chart, chart_count) for column in member_high],
                     axis=1)
