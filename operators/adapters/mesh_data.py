@@ -18,6 +18,11 @@ from ...core.mesh.triangle_mesh import MeshArrays, boxes_near
 from ...core.rays.ray_setup import world_winding
 from ...shaders.island_nodes import ISLAND_ATTRIBUTE, island_group
 
+#: A mesh of at least this many triangles gets its islands from Blender's Mesh Island node (:func:`islands_as_read`);
+#: a smaller one is joined triangle by triangle in numpy, which costs less than setting up the node's evaluation (a
+#: bake of hundreds of small objects would pay that set-up once per object).
+ISLANDS_FROM_TRIANGLES = 1 << 15
+
 #: Modifiers whose viewport and render levels may differ: (viewport property, render property).
 LEVELS = {"SUBSURF": ("levels", "render_levels"), "MULTIRES": ("levels", "render_levels")}
 
@@ -147,8 +152,10 @@ def vertex_islands(mesh):
 
 def islands_as_read(ob, depsgraph, arrays, copy=None):
     """:func:`vertex_islands` of ``ob`` as ``depsgraph`` evaluates it, read as ``arrays`` (MeshArrays): of
-    ``copy`` (its :class:`OccluderCopy`) where given, else of a temporary copy; None where the mesh has loose
-    edges or does not have the vertices read."""
+    ``copy`` (its :class:`OccluderCopy`) where given, else of a temporary copy; None where the mesh has fewer
+    than :data:`ISLANDS_FROM_TRIANGLES` triangles, has loose edges or does not have the vertices read."""
+    if len(arrays.triangles) < ISLANDS_FROM_TRIANGLES:
+        return None
     mesh = copy.mesh if copy is not None else _evaluated_copy(ob, depsgraph, TEMP_PREFIX + "islands")
     try:
         return vertex_islands(mesh) if len(mesh.vertices) == len(arrays.positions) else None

@@ -158,14 +158,14 @@ def test_blenders_islands_give_the_pieces_of_the_triangles_and_none_with_a_loose
     """Mesh Island on a copy of what was read: two boxes, one of them with every face its own vertices (an
     import's), and a loose vertex; the pieces from its islands are those the triangles make.  A loose edge
     joining the boxes would join their islands, which the triangles do not: no islands then.  A bake hands
-    the islands to the mesh it lays out."""
+    the islands to a mesh of ISLANDS_FROM_TRIANGLES triangles or more, and none to a smaller one."""
     import bpy
 
     import meshes
     from seamless_ao.core.keys import TEMP_PREFIX
     from seamless_ao.core.mesh import triangle_mesh
     from seamless_ao.core.mesh.weld import vertex_pieces
-    from seamless_ao.operators.adapters.mesh_data import vertex_islands
+    from seamless_ao.operators.adapters.mesh_data import ISLANDS_FROM_TRIANGLES, vertex_islands
 
     positions, triangles = meshes.box(subdivisions=2)
     split_positions, split_triangles = meshes.split_vertices(positions + [3.0, 0.0, 0.0], triangles)
@@ -187,8 +187,12 @@ def test_blenders_islands_give_the_pieces_of_the_triangles_and_none_with_a_loose
     pieces = triangle_mesh.vertex_pieces
     monkeypatch.setattr(triangle_mesh, "vertex_pieces",
                         lambda *args, islands=None: given.append(islands) or pieces(*args, islands=islands))
-    addon.bake([suzanne(1)], image_size=256, rays=1)
-    assert given and all(islands is not None for islands in given)
+    for level, given_islands in ((3, True), (1, False)):
+        head = suzanne(level)
+        assert (len(read_triangles(head.data)[0].triangles) >= ISLANDS_FROM_TRIANGLES) == given_islands
+        given.clear()
+        addon.bake([head], image_size=256, rays=1)
+        assert given and all((islands is not None) == given_islands for islands in given)
 
 
 def test_a_bake_of_many_objects_leaves_no_temporary_datablock(addon, fresh_scene):
