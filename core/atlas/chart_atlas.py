@@ -117,11 +117,14 @@ class Atlas:
         """
         member = self.layer_member(axis, triangles)
         uv = np.empty((len(member), 3, 2), dtype=dtype)
+        sizes = (float(self.width), float(self.height))
         for rows in row_blocks(len(member)):
             block = self.member_uv[member[rows]]
-            # column by column: what ``block /= size`` and ``np.clip`` compute, in a fifth of the time
-            for column, size in enumerate((float(self.width), float(self.height))):
-                values = block[..., column]
+            # what ``block /= size`` and ``np.clip`` compute, in a fifth of the time: over the whole block at
+            # once where u and v share a size (a square image), else column by column
+            for column, size in ([(Ellipsis, sizes[0])] if sizes[0] == sizes[1] else
+                                 [((Ellipsis, 0), sizes[0]), ((Ellipsis, 1), sizes[1])]):
+                values = block[column]
                 values /= size
                 np.maximum(values, 0.5 / size, out=values)
                 np.minimum(values, 1.0 - 0.5 / size, out=values)

@@ -126,9 +126,14 @@ class Transaction:
         layers = mesh.uv_layers
         active = layers.active.name if layers.active is not None else None
         render = next((uv.name for uv in layers if uv.active_render), None)
+        # an all-triangle mesh's triangles are its corners in order (mesh_data.triangle_loops): its UVs go as they are
+        in_order = loops.size == len(mesh.loops) and bool((loops.ravel() == np.arange(loops.size)).all())
         for axis, name in enumerate(AO_LAYERS):
-            uv = np.zeros((len(mesh.loops), 2), dtype=np.float32)
-            put_pairs(uv, loops, axis_uv[axis])
+            if in_order:
+                uv = np.asarray(axis_uv[axis], dtype=np.float32).reshape(-1, 2)
+            else:
+                uv = np.zeros((len(mesh.loops), 2), dtype=np.float32)
+                put_pairs(uv, loops, axis_uv[axis])
             layer = layers.get(name)
             if layer is None:
                 layer = layers.new(name=name, do_init=False)

@@ -49,6 +49,26 @@ def test_operator_writes_uv_maps_image_and_node_group(monkey):
     assert settings.last_bake_texels > 0 and settings.last_bake_time > 0
 
 
+def test_uv_maps_put_each_triangle_corners_uv_on_its_corner_on_triangles_and_on_other_faces(fresh_scene):
+    """An all-triangle mesh's UVs go to its corners as they come (its triangles are its corners in order);
+    quads and n-gons go corner by corner: either way every corner holds the UV of the triangle corners on it."""
+    from seamless_ao.operators.adapters.mesh_data import read_uv, triangle_loops
+    from seamless_ao.operators.adapters.writes import Transaction
+
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2)
+    triangles_only = bpy.context.active_object.data
+    bpy.ops.mesh.primitive_cylinder_add(vertices=7)              # 7 quads, two 7-gons
+    mixed = bpy.context.active_object.data
+    rng = np.random.default_rng(5)
+    for mesh in (triangles_only, mixed):
+        loops = triangle_loops(mesh)
+        assert np.array_equal(np.unique(loops), np.arange(len(mesh.loops)))
+        per_corner = [rng.random((len(mesh.loops), 2)).astype(np.float32) for _ in range(3)]
+        Transaction().uv_maps(mesh, loops, [uv[loops] for uv in per_corner])
+        for name, uv in zip(("AO_X", "AO_Y", "AO_Z"), per_corner):
+            assert np.array_equal(read_uv(mesh, name), uv), name
+
+
 def test_operator_properties_override_scene_settings(monkey):
     bpy.context.scene.seamless_ao.image_size = 512
     bpy.ops.object.seamless_ao_bake(rays=4, image_size=256)

@@ -1,5 +1,6 @@
 """Issue 4: charts to one packed atlas with exact texel points and normals."""
 
+import dataclasses
 from types import SimpleNamespace
 
 import numpy as np
@@ -143,17 +144,18 @@ def test_axis_uv_block_by_block_is_each_corners_texel_over_the_size_clipped_half
     """Blocks smaller than the triangles: every layer's UVs are the member's texel coordinates over the image
     size, clipped to half a texel inside, as float64 to the bit and as float32 rounded once from it."""
     layout = build_layout(TriangleMesh.from_triangles(*meshes.torus(rings=12, segments=8)), image_size=256)
-    atlas = layout.atlas
     monkeypatch.setattr(blocks, "BLOCK_ROWS", 7)
-    size = np.array([atlas.width, atlas.height], dtype=np.float64)
-    for axis in range(3):
-        expected = np.clip(atlas.member_uv[atlas.layer_member(axis)] / size, 0.5 / size, 1.0 - 0.5 / size)
-        exact, rounded = atlas.axis_uv(axis), atlas.axis_uv(axis, dtype=np.float32)
-        assert exact.dtype == np.float64 and rounded.dtype == np.float32
-        assert np.array_equal(exact, expected)
-        assert np.array_equal(rounded, expected.astype(np.float32))
-        some = np.array([5, 0, 11])
-        assert np.array_equal(atlas.axis_uv(axis, some), expected[some])
+    # a square image (u and v over one size) and one twice as wide (each over its own)
+    for atlas in (layout.atlas, dataclasses.replace(layout.atlas, width=2 * layout.atlas.width)):
+        size = np.array([atlas.width, atlas.height], dtype=np.float64)
+        for axis in range(3):
+            expected = np.clip(atlas.member_uv[atlas.layer_member(axis)] / size, 0.5 / size, 1.0 - 0.5 / size)
+            exact, rounded = atlas.axis_uv(axis), atlas.axis_uv(axis, dtype=np.float32)
+            assert exact.dtype == np.float64 and rounded.dtype == np.float32
+            assert np.array_equal(exact, expected)
+            assert np.array_equal(rounded, expected.astype(np.float32))
+            some = np.array([5, 0, 11])
+            assert np.array_equal(atlas.axis_uv(axis, some), expected[some])
 
 
 def test_placement_maps_scale_drawn_charts_and_pin_point_charts_to_their_texel_centre():
