@@ -42,6 +42,7 @@ module                              what it holds
 :mod:`.atlas.settled_atlas`         an xatlas atlas let go of once its threads sleep (its destructor can hang)
 :mod:`.atlas.shelf`                 shelf packing of the small charts
 :mod:`.atlas.raster`                texels and the surface point each samples
+:mod:`.atlas.rim`                   which triangles have a side on their chart's border
 :mod:`.atlas.viewport_uv`           AO UVs for a surface other than the one baked
 **rays** (``core/rays/``)
 :mod:`.rays.ray_setup`              a mesh's rays: parameters, ray space, the casters

@@ -29,7 +29,7 @@ from ..arrays.geometry2d import (band_x_extent, box_holds_texel_centre, closest_
                                  point_keys, triangle_score)
 from ..arrays.graph import group_starts, index_in_runs, index_type, sort_order
 from ..arrays.grid import neighbour_texels, neighbour_values
-from ..arrays.reduce import row_all
+from .rim import edge_twins, member_rim, rim_triangles, side_twins
 
 COVERED, NEAR, PADDING = 0, 1, 2
 #: Points on a triangle's rim move this far (times the object size) into it: twice
@@ -112,57 +112,14 @@ def rasterise(atlas, mesh, padding=4):
 
 
 def _live_rim(atlas, mesh, live):
-    """(k,) bool: :func:`rim_triangles` of members ``live`` (k,), a corner being one vertex in one chart
-    (the (k, 3) keys go on return: 24 MB a million members)."""
-    return rim_triangles(atlas.member_chart[live, None] * np.int64(len(mesh.positions))
-                         + mesh.triangles[atlas.member_triangle[live]])
-
-
-def rim_triangles(corner_key):
-    """Triangles with a side on the border of the region they cover together.
-
-    A side is inside the region when exactly one other triangle has the same
-    side the other way round (the two lie on either side of it); any other
-    side (used once, three times, or twice in the same direction, a fold) is
-    on the border.  Every point of the region's border lies on a border side,
-    so a texel centre within one texel of the region but outside it is within
-    one texel of a rim triangle.
-
-    Parameters
-    ----------
-    corner_key : (k, 3) int, >= 0
-        Corners with equal keys are the same 2D point (e.g. one vertex in one chart).
-
-    Returns
-    -------
-    (k,) bool
-    """
-    corner_key = np.asarray(corner_key, dtype=np.int64)
-    if corner_key.size and int(corner_key.max()) >= 2**31:       # a side's key is two corners' in one int64
-        corner_key = np.unique(corner_key, return_inverse=True)[1].reshape(-1, 3)
-    start = corner_key.ravel()
-    end = np.roll(corner_key, -1, axis=1).ravel()
-    # one key a side, whichever way it runs; a side of one point (start == end) runs neither way, so it never
-    # makes a pair.  As few arrays of all sides as will do: inside a bake, making and faulting in each of
-    # them cost more than the sort
-    side_key = np.minimum(start, end)
-    side_key *= int(corner_key.max(initial=0)) + 1
-    side_key += np.maximum(start, end)
-    forward = start < end
-    del start, end
-    order = sort_order(side_key, stable=False)         # a run of one side is judged whatever its order
-    side_key, forward = side_key[order], forward[order]
-    # runs of exactly two, in opposite directions
-    two = side_key[1:] == side_key[:-1]
-    two[1:] &= side_key[1:-1] != side_key[:-2]
-    two[:-1] &= side_key[2:] != side_key[1:-1]
-    two &= forward[1:] != forward[:-1]
-    pair = np.zeros(len(order), dtype=bool)
-    pair[:-1] = two
-    pair[1:] |= two
-    inside = np.empty(len(order), dtype=bool)
-    inside[order] = pair
-    return ~row_all(inside.reshape(-1, 3))
+    """(k,) bool: :func:`.rim.rim_triangles` of members ``live`` (k,), a corner being one vertex in one chart
+    (:func:`.rim.member_rim`, through the mesh's pairs of sides)."""
+    if atlas.charts is None:
+        return rim_triangles(atlas.member_chart[live, None] * np.int64(len(mesh.positions))
+                             + mesh.triangles[atlas.member_triangle[live]])
+    twin = side_twins(mesh.triangles) if mesh.side_edge is None else edge_twins(mesh.side_edge, mesh.triangles)
+    return member_rim(twin, mesh.triangles, atlas.member_triangle, atlas.member_chart, atlas.charts.chart_axis,
+                      atlas.membership, live)
 
 
 def rasterise_triangles(triangle_uv, live, width, height, padding=4, fixed_texel=None, fixed_member=None, rim=None):

@@ -34,13 +34,15 @@ class MeshArrays:
     normals_as_read: np.ndarray  # (t, 3, 3) corner normals, as read (not yet sanitised)
     face_count: int = 0
     vertex_island: np.ndarray = None     # (v,) int, optional
+    side_edge: np.ndarray = None         # (t, 3) int, optional
     _mesh: object = field(default=None, init=False, repr=False)
 
     def mesh(self):
         """The :class:`TriangleMesh` (built on first use, then kept)."""
         if self._mesh is None:
             self._mesh = TriangleMesh(self.positions, self.triangles, self.triangle_face, self.normals_as_read,
-                                      face_count=self.face_count, vertex_island=self.vertex_island)
+                                      face_count=self.face_count, vertex_island=self.vertex_island,
+                                      side_edge=self.side_edge)
         return self._mesh
 
 
@@ -63,6 +65,12 @@ class TriangleMesh:
         Each vertex's island where the reader knows it (the triangles joined
         through shared vertex indices, ``0 ..``: Blender's Mesh Island), for
         :attr:`vertex_piece` (:func:`.weld.vertex_pieces`' ``islands``).
+    side_edge : (t, 3) int or None
+        Where the reader knows it, the edge of each triangle side (from corner
+        ``j`` to the next): two sides share a number exactly when they join the
+        same two vertices (Blender's edges, one per pair of vertices, and a
+        number for each quad's inner diagonal), for pairing sides without a
+        sort (:func:`..atlas.rim.edge_twins`).
     corner_normals : (t, 3, 3) float64
         Those normals made unit (:func:`sanitized_normals`), a new array each
         use: a bake's passes take those of the triangles they need
@@ -104,6 +112,7 @@ class TriangleMesh:
     normals_as_read: np.ndarray
     face_count: int = 0
     vertex_island: np.ndarray = None
+    side_edge: np.ndarray = None
     # Derived, filled by ``__post_init__``.
     scale: float = field(init=False, default=1.0)
     box: tuple = field(init=False, repr=False, default=None)
@@ -133,6 +142,10 @@ class TriangleMesh:
             self.vertex_island = np.ascontiguousarray(self.vertex_island).reshape(-1)
             if len(self.vertex_island) != len(self.positions):
                 raise ValueError("vertex_island must have one island per vertex")
+        if self.side_edge is not None:
+            self.side_edge = np.ascontiguousarray(self.side_edge).reshape(-1, 3)
+            if len(self.side_edge) != t or (t and int(self.side_edge.min()) < 0):
+                raise ValueError("side_edge must give each triangle side an edge number >= 0")
         if not np.isfinite(self.positions).all():
             raise SeamlessAOError("The mesh has vertices at infinite or undefined (NaN) positions")
         if not self.face_count:
@@ -186,7 +199,8 @@ class TriangleMesh:
             np.concatenate([m.triangle_face + o for m, o in zip(meshes, face_offsets)]),
             np.concatenate([m.normals_as_read for m in meshes]),
             face_count=int(face_offsets[-1]),
-            vertex_island=_concatenated_islands(meshes),
+            vertex_island=_concatenated_numbers([m.vertex_island for m in meshes]),
+            side_edge=_concatenated_numbers([m.side_edge for m in meshes]),
         )
         # each part's normals are made unit against its own triangle normals (the same ones, concatenated)
         for name in ("triangle_cross", "triangle_area", "triangle_normal", "degenerate", "stray"):
@@ -280,13 +294,13 @@ class TriangleMesh:
         return ~live
 
 
-def _concatenated_islands(meshes):
-    """(v,) int64: the ``vertex_island`` of meshes put together, each mesh's numbered after the last one's;
-    None unless every mesh has them."""
-    if not meshes or any(m.vertex_island is None for m in meshes):
+def _concatenated_numbers(numbers):
+    """The numbers (each (n_i, ...) int >= 0, e.g. ``vertex_island``, ``side_edge``) of meshes put together, each
+    mesh's after the last one's: (sum n_i, ...) int64; None unless every mesh has them."""
+    if not numbers or any(each is None for each in numbers):
         return None
-    offsets = np.cumsum([0] + [int(m.vertex_island.max(initial=-1)) + 1 for m in meshes])
-    return np.concatenate([np.asarray(m.vertex_island, dtype=np.int64) + o for m, o in zip(meshes, offsets)])
+    offsets = np.cumsum([0] + [int(np.max(each, initial=-1)) + 1 for each in numbers])
+    return np.concatenate([np.asarray(each, dtype=np.int64) + o for each, o in zip(numbers, offsets)])
 
 
 def boxes_near(low, high, lows, highs, reach):

@@ -26,6 +26,8 @@ PROGRESS = "progress.txt"
 OUTCOME = "outcome.json"
 FAILURE = "failure.json"
 MESH_ARRAYS = ("positions", "triangles", "triangle_face", "normals_as_read")
+#: What a mesh carries where its reader knew it (None otherwise).
+OPTIONAL_MESH_ARRAYS = ("vertex_island", "side_edge")
 SURFACE_ARRAYS = ("positions", "corner_vert", "loop_start")
 
 
@@ -75,14 +77,16 @@ def write_job(folder, meshes, matrices, occluders, settings, shown=None):
     for part, mesh in enumerate(meshes):
         for name in MESH_ARRAYS:
             _save(folder, "mesh{}_{}".format(part, name), getattr(mesh, name))
-        if mesh.vertex_island is not None:
-            _save(folder, "mesh{}_vertex_island".format(part), mesh.vertex_island)
+        for name in OPTIONAL_MESH_ARRAYS:
+            if getattr(mesh, name) is not None:
+                _save(folder, "mesh{}_{}".format(part, name), getattr(mesh, name))
         _save(folder, "matrix{}".format(part), np.asarray(matrices[part], dtype=np.float64))
         for number, (positions, triangles) in enumerate(occluders[part]):
             _save(folder, "occluder{}_{}_positions".format(part, number), positions)
             _save(folder, "occluder{}_{}_triangles".format(part, number), triangles)
     _write_json(folder, JOB, {"settings": dataclasses.asdict(settings), "face_counts": [m.face_count for m in meshes],
-                              "islands": [m.vertex_island is not None for m in meshes],
+                              "given": [[name for name in OPTIONAL_MESH_ARRAYS if getattr(m, name) is not None]
+                                        for m in meshes],
                               "occluders": [len(near) for near in occluders],
                               "shown": [surface is not None for surface in shown]})
 
@@ -93,8 +97,8 @@ def read_job(folder):
     meshes, matrices, occluders = [], [], []
     for part, face_count in enumerate(job["face_counts"]):
         arrays = {name: _load(folder, "mesh{}_{}".format(part, name)) for name in MESH_ARRAYS}
-        if job["islands"][part]:
-            arrays["vertex_island"] = _load(folder, "mesh{}_vertex_island".format(part))
+        for name in job["given"][part]:
+            arrays[name] = _load(folder, "mesh{}_{}".format(part, name))
         mesh = TriangleMesh(face_count=face_count, **arrays)
         meshes.append(mesh)
         matrices.append(_load(folder, "matrix{}".format(part)))

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
+from ...core.arrays.graph import index_type
 from ...core.keys import STACK_MODIFIER, TEMP_PREFIX
 from ...core.mesh.triangle_mesh import MeshArrays, boxes_near
 from ...core.rays.ray_setup import world_winding
@@ -232,6 +233,39 @@ def triangle_polygons(mesh, count):
     return polygon
 
 
+def triangle_side_edges(mesh, loops, polygon):
+    """(t, 3) int32 (int64 past 2**31 numbers): the edge of each side of Blender's triangles (side ``j`` from
+    corner ``j`` to the next), for :attr:`~..core.mesh.triangle_mesh.TriangleMesh.side_edge`: the mesh's edge
+    where the side is one of its face's, else (a quad's inner diagonal) one number past the edges for each face.
+    None where a face has more than four corners (an n-gon's diagonals would need numbering one by one).
+
+    ``loops`` (t, 3) int: :func:`triangle_loops`; ``polygon`` (t,) int: :func:`triangle_polygons`.  A triangle
+    runs round its face's corners in their order, so its side from corner ``l`` is either the face's edge from
+    ``l`` (``l``'s edge) or a diagonal.
+    """
+    corner_edge = np.empty(len(mesh.loops), dtype=np.int32)
+    attribute = mesh.attributes.get(".corner_edge")
+    if attribute is not None and len(attribute.data) == len(corner_edge):
+        attribute.data.foreach_get("value", corner_edge)
+    else:                                   # where the corners' edges are no attribute
+        mesh.loops.foreach_get("edge_index", corner_edge)
+    if len(mesh.loops) == 3 * len(mesh.polygons):          # triangles only: the corners in order (triangle_loops)
+        return corner_edge[loops]
+    triangles_of_face = np.bincount(polygon, minlength=len(mesh.polygons))
+    if int(triangles_of_face.max(initial=0)) > 2:
+        return None
+    number = index_type(len(mesh.edges) + len(mesh.polygons))
+    loops = np.asarray(loops, dtype=number)
+    following = np.empty_like(loops)                            # the corner each side ends at
+    following[:, :2] = loops[:, 1:]
+    following[:, 2] = loops[:, 0]
+    following -= loops
+    # a quad's (two triangles') corners run l .. l + 3: its diagonals join corners two apart, its edges one or three
+    diagonal = (np.abs(following) == 2) & (triangles_of_face == 2)[polygon][:, None]
+    return np.where(diagonal, number(len(mesh.edges)) + np.asarray(polygon, dtype=number)[:, None],
+                    corner_edge[loops].astype(number))
+
+
 def read_mesh_arrays(mesh):
     """A ``bpy.types.Mesh`` as :class:`~..core.mesh.triangle_mesh.MeshArrays`, in object space: one ``foreach_get`` per
     attribute, nothing worked out from them yet.
@@ -250,12 +284,14 @@ def read_mesh_arrays(mesh):
     corner_normals = np.empty(len(mesh.loops) * 3, dtype=np.float32)
     if len(mesh.loops):
         mesh.corner_normals.foreach_get("vector", corner_normals)
+    polygon = triangle_polygons(mesh, count)
     arrays = MeshArrays(
         vertex_positions(mesh).reshape(-1, 3),
         loop_vertices(mesh).astype(np.int64)[loops],
-        triangle_polygons(mesh, count),
+        polygon,
         corner_normals.reshape(-1, 3)[loops] if count else np.zeros((0, 3, 3), dtype=np.float32),
         face_count=len(mesh.polygons),
+        side_edge=triangle_side_edges(mesh, loops, polygon),
     )
     return arrays, loops
 

@@ -121,13 +121,14 @@ def test_a_job_reads_back_as_it_was_written(tmp_path):
     mesh = TriangleMesh.from_triangles(rng.random((30, 3)), rng.integers(0, 30, (40, 3)))
     occluders = [[(rng.random((4, 3)), np.array([[0, 1, 2], [1, 2, 3]]))]]
     surface = (rng.random((6, 3)), np.array([0, 1, 2, 3, 2, 1, 4, 5]), np.array([0, 4]))
-    # the second with the islands its reader found, the first without
+    # the second with the islands and side edges its reader found, the first without
     with_islands = TriangleMesh(mesh.positions, mesh.triangles, mesh.triangle_face, mesh.normals_as_read,
-                                vertex_island=rng.integers(0, 5, 30))
+                                vertex_island=rng.integers(0, 5, 30), side_edge=rng.integers(0, 60, (40, 3)))
     write_job(str(tmp_path), [mesh, with_islands], [np.eye(4) * 2.0] * 2, occluders * 2, SETTINGS, [None, surface])
     meshes, matrices, near, settings, shown = read_job(str(tmp_path))
     assert shown[0] is None and all(np.array_equal(a, b) for a, b in zip(shown[1], surface))
-    assert meshes[0].vertex_island is None and np.array_equal(meshes[1].vertex_island, with_islands.vertex_island)
+    for name in ("vertex_island", "side_edge"):
+        assert getattr(meshes[0], name) is None and np.array_equal(getattr(meshes[1], name), getattr(with_islands, name))
     for name in ("positions", "triangles", "triangle_face", "corner_normals", "stray", "triangle_area"):
         assert np.array_equal(getattr(meshes[0], name), getattr(mesh, name)), name
     assert meshes[0].face_count == mesh.face_count and meshes[0].scale == mesh.scale

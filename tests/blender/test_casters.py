@@ -242,3 +242,37 @@ def test_triangles_are_read_as_blenders_own_whether_every_face_is_a_triangle_or_
         blenders = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
         mesh.loop_triangles.foreach_get("loops", blenders)
         assert np.array_equal(triangle_loops(mesh), blenders.reshape(-1, 3))
+
+
+def test_triangle_sides_are_numbered_by_blenders_edges_alike_exactly_where_they_join_the_same_vertices(fresh_scene):
+    """Each side of Blender's triangles gets its edge's number (a quad's diagonal one of its own), so two sides
+    share a number exactly when they join the same two vertices: on triangles, on quads and triangles
+    (Suzanne, subdivided once), on a cube whose quads are bent (Blender picks each diagonal).  A mesh with an
+    n-gon gets none."""
+    import bpy
+
+    from seamless_ao.operators.adapters.mesh_data import (loop_vertices, triangle_loops, triangle_polygons,
+                                                          triangle_side_edges)
+
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3)
+    triangles_only = bpy.context.active_object.data
+    mixed = suzanne(2).data
+    bpy.ops.mesh.primitive_cube_add()
+    cube = bpy.context.active_object.data
+    cube.vertices[0].co.z += 0.5
+    cube.vertices[5].co.x -= 0.4
+    bpy.ops.mesh.primitive_cylinder_add(vertices=7)              # 7 quads, two 7-gons
+    with_ngons = bpy.context.active_object.data
+    for mesh in (triangles_only, mixed, cube):
+        loops = triangle_loops(mesh)
+        side_edge = triangle_side_edges(mesh, loops, triangle_polygons(mesh, len(loops)))
+        corner = loop_vertices(mesh)[loops]
+        ends = np.sort(np.stack([corner.ravel(), np.roll(corner, -1, axis=1).ravel()], axis=1), axis=1)
+        assert side_edge.shape == loops.shape and side_edge.dtype == np.int32
+        pairs = len(np.unique(ends, axis=0))
+        assert len(np.unique(side_edge)) == pairs
+        assert len(np.unique(np.column_stack([side_edge.ravel(), ends]), axis=0)) == pairs
+        diagonals = side_edge >= len(mesh.edges)
+        assert diagonals.any() != (mesh is triangles_only)
+    loops = triangle_loops(with_ngons)
+    assert triangle_side_edges(with_ngons, loops, triangle_polygons(with_ngons, len(loops))) is None
