@@ -4,7 +4,8 @@
 A side is inside the region when exactly one other triangle has the same
 side the other way round (the two lie on either side of it); any other side
 (used once, three times, or twice in the same direction, a fold) is on the
-border.  :func:`rim_triangles` applies that rule to corners given as keys;
+border.  :func:`rim_triangles` applies that rule to corners given as keys
+(:func:`side_twins` of the keys);
 :func:`member_rim` to the members of an atlas, a corner being one vertex in
 one chart, through the mesh's own pairs of sides, worked out once for all
 charts: a side's only partner in any chart is its twin in the mesh, so each
@@ -44,38 +45,7 @@ def rim_triangles(corner_key):
     -------
     (k,) bool
     """
-    corner_key = np.asarray(corner_key, dtype=np.int64).reshape(-1, 3)
-    return ~row_all(_paired(corner_key).reshape(-1, 3))
-
-
-def _paired(corner_key):
-    """(3k,) bool, side ``j`` of row ``i`` at ``3 i + j`` (from corner ``j`` to the next): whether exactly one other
-    side of ``corner_key`` (k, 3) int >= 0 joins the same two keys, the other way round."""
-    if corner_key.size and int(corner_key.max()) >= 2**31:       # a side's key is two corners' in one int64
-        corner_key = np.unique(corner_key, return_inverse=True)[1].reshape(-1, 3)
-    start = corner_key.ravel()
-    end = np.roll(corner_key, -1, axis=1).ravel()
-    # one key a side, whichever way it runs; a side of one point (start == end) runs neither way, so it never
-    # makes a pair.  As few arrays of all sides as will do: inside a bake, making and faulting in each of
-    # them cost more than the sort
-    side_key = np.minimum(start, end)
-    side_key *= int(corner_key.max(initial=0)) + 1
-    side_key += np.maximum(start, end)
-    forward = start < end
-    del start, end
-    order = sort_order(side_key, stable=False)         # a run of one side is judged whatever its order
-    side_key, forward = side_key[order], forward[order]
-    # runs of exactly two, in opposite directions
-    two = side_key[1:] == side_key[:-1]
-    two[1:] &= side_key[1:-1] != side_key[:-2]
-    two[:-1] &= side_key[2:] != side_key[1:-1]
-    two &= forward[1:] != forward[:-1]
-    pair = np.zeros(len(order), dtype=bool)
-    pair[:-1] = two
-    pair[1:] |= two
-    inside = np.empty(len(order), dtype=bool)
-    inside[order] = pair
-    return inside
+    return ~row_all(side_twins(corner_key) >= 0)
 
 
 def side_twins(triangles):
@@ -83,7 +53,7 @@ def side_twins(triangles):
 
     Parameters
     ----------
-    triangles : (t, 3) int, vertex indices
+    triangles : (t, 3) int >= 0, vertex indices (or any keys: corners with equal keys are one point)
 
     Returns
     -------
@@ -98,11 +68,12 @@ def side_twins(triangles):
         triangles = np.unique(triangles, return_inverse=True)[1].reshape(-1, 3)
     start = triangles.ravel()
     end = np.roll(triangles, -1, axis=1).ravel()
+    # one key a side, whichever way it runs
     side_key = np.minimum(start, end)
     side_key *= int(triangles.max(initial=0)) + 1
     side_key += np.maximum(start, end)
     forward = start < end
-    order = sort_order(side_key, stable=False)
+    order = sort_order(side_key, stable=False)         # a run of one side is judged whatever its order
     side_key, forward = side_key[order], forward[order]
     count = len(order)
     same_as_next = side_key[1:] == side_key[:-1]
@@ -206,5 +177,5 @@ def member_rim(twin, triangles, member_triangle, member_chart, chart_axis, membe
         key = member_chart[member][:, None] * np.int64(int(triangles.max(initial=0)) + 1) + ends
         # each as a triangle of its two ends and a point of its own: only its first side can pair
         own = np.arange(len(row), dtype=np.int64)[:, None] + int(key.max(initial=0)) + 1
-        inside.ravel()[shared] = _paired(np.concatenate([key, own], axis=1))[0::3]
+        inside.ravel()[shared] = side_twins(np.concatenate([key, own], axis=1))[:, 0] >= 0
     return ~row_all(inside)
