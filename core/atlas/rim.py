@@ -99,6 +99,7 @@ def side_twins(triangles):
 def edge_twins(side_edge, triangles):
     """:func:`side_twins` from each side's edge number, with no sort: the same result where two sides share a
     number exactly when they join the same two vertices (:attr:`..mesh.triangle_mesh.TriangleMesh.side_edge`).
+    Numbers that pair two sides on different vertices are no edges: :func:`side_twins` then.
 
     Blender keeps one edge per pair of vertices, so its edges number the faces' sides so; a quad's inner
     diagonal joins two vertices that some other side may join too (a non-manifold mesh's), and then its two
@@ -115,7 +116,8 @@ def edge_twins(side_edge, triangles):
     (t, 3) int64, as :func:`side_twins`
     """
     edge = np.asarray(side_edge, dtype=np.int64).ravel()
-    start = np.asarray(triangles, dtype=np.int64).ravel()                 # the vertex each side starts at
+    triangles = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    start = triangles.ravel()                                             # the vertex each side starts at
     if not len(edge):
         return np.zeros((0, 3), dtype=np.int64)
     side = np.arange(len(edge), dtype=np.float64)                # (indices below 2**53: exact as floats)
@@ -126,8 +128,22 @@ def edge_twins(side_edge, triangles):
     twin = twin.astype(np.int64)
     twin[sides != 2] = ALONE
     twin[sides > 2] = SHARED
-    # two sides on one edge start at one vertex when they run the same way round: a fold, on the border
-    twin[(twin >= 0) & (start[np.maximum(twin, 0)] == start)] = ALONE
+    twin_start = start[np.maximum(twin, 0)]
+    alone = twin < 0
+    # two sides on one edge start at one vertex when they run the same way round (a fold, on the border), and
+    # the other way round each starts where the other ends; numbers that pair sides otherwise do not follow
+    # the vertices (a mesh whose corners' edges are wrong): its vertices decide instead
+    fold = twin_start == start
+    fold &= ~alone
+    end = np.empty_like(triangles)
+    end[:, :2] = triangles[:, 1:]
+    end[:, 2] = triangles[:, 0]
+    follows = twin_start == end.ravel()
+    follows |= fold
+    follows |= alone
+    if not follows.all():
+        return side_twins(triangles)
+    twin[fold] = ALONE
     return twin.reshape(-1, 3)
 
 

@@ -48,6 +48,9 @@ def test_side_twins_and_edge_twins_pair_each_side_with_the_one_other_on_its_vert
         triangles, expected = triangles[keep], twins_by_definition(triangles[keep])
     assert np.array_equal(edge_twins(edges_by_vertex_pair(triangles), triangles), expected)
     assert side_twins(triangles[:0]).shape == edge_twins(np.zeros((0, 3), dtype=int), triangles[:0]).shape == (0, 3)
+    # numbers that pair sides on different vertices (a mesh whose corners' edges are wrong): the vertices decide
+    wrong = np.arange(triangles.size).reshape(-1, 3) // 2
+    assert np.array_equal(edge_twins(wrong, triangles), expected)
 
 
 def with_fins_and_copies(positions, triangles, count, seed):
