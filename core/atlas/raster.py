@@ -114,9 +114,6 @@ def rasterise(atlas, mesh, padding=4):
 def _live_rim(atlas, mesh, live):
     """(k,) bool: :func:`.rim.rim_triangles` of members ``live`` (k,), a corner being one vertex in one chart
     (:func:`.rim.member_rim`, through the mesh's pairs of sides)."""
-    if atlas.charts is None:
-        return rim_triangles(atlas.member_chart[live, None] * np.int64(len(mesh.positions))
-                             + mesh.triangles[atlas.member_triangle[live]])
     twin = side_twins(mesh.triangles) if mesh.side_edge is None else edge_twins(mesh.side_edge, mesh.triangles)
     return member_rim(twin, mesh.triangles, atlas.member_triangle, atlas.member_chart, atlas.charts.chart_axis,
                       atlas.membership, live)

@@ -26,10 +26,22 @@ from .mesh_data import read_uv, write_uv
 def corner_uv(corner_count, loops, axis_uv):
     """(3 layers, corner_count, 2) float32: the triangles' UVs ``axis_uv`` (three (t, 3, 2)) on the mesh's
     corners, ``loops`` (t, 3) saying which corner each triangle corner is."""
-    per_corner = np.zeros((3, corner_count, 2), dtype=np.float32)
+    per_corner = np.empty((3, corner_count, 2), dtype=np.float32)
     for axis in range(3):
-        put_pairs(per_corner[axis], loops, axis_uv[axis])
+        per_corner[axis] = layer_on_corners(corner_count, loops, axis_uv[axis])
     return per_corner
+
+
+def layer_on_corners(corner_count, loops, triangle_uv):
+    """(corner_count, 2) float32: one layer's triangle UVs ``triangle_uv`` (t, 3, 2) on the mesh's corners, ``loops``
+    (t, 3) saying which corner each triangle corner is.  An all-triangle mesh's triangles are its corners in order
+    (mesh_data.triangle_loops): its UVs are the layer as it is, with no scatter."""
+    loops = np.asarray(loops)
+    if loops.size == corner_count and bool((loops.ravel() == np.arange(corner_count)).all()):
+        return np.asarray(triangle_uv, dtype=np.float32).reshape(-1, 2)
+    uv = np.zeros((corner_count, 2), dtype=np.float32)
+    put_pairs(uv, loops, triangle_uv)
+    return uv
 
 
 class Transaction:
@@ -126,14 +138,8 @@ class Transaction:
         layers = mesh.uv_layers
         active = layers.active.name if layers.active is not None else None
         render = next((uv.name for uv in layers if uv.active_render), None)
-        # an all-triangle mesh's triangles are its corners in order (mesh_data.triangle_loops): its UVs go as they are
-        in_order = loops.size == len(mesh.loops) and bool((loops.ravel() == np.arange(loops.size)).all())
         for axis, name in enumerate(AO_LAYERS):
-            if in_order:
-                uv = np.asarray(axis_uv[axis], dtype=np.float32).reshape(-1, 2)
-            else:
-                uv = np.zeros((len(mesh.loops), 2), dtype=np.float32)
-                put_pairs(uv, loops, axis_uv[axis])
+            uv = layer_on_corners(len(mesh.loops), loops, axis_uv[axis])
             layer = layers.get(name)
             if layer is None:
                 layer = layers.new(name=name, do_init=False)
