@@ -41,18 +41,27 @@ def test_nodes_caster_hits_a_plane_where_the_closed_form_says(fresh_scene):
         caster.free()
 
 
-def test_nodes_caster_agrees_with_the_bvh_caster_hit_for_hit(fresh_scene):
-    """Distance, facing and the sealed flag of the hit triangle (here: every odd triangle, so a caster
-    that read the flag of another triangle, or none, would disagree on half the hits)."""
+@pytest.mark.parametrize("flagged, domain", [("triangle", "FACE"), ("piece", "POINT")])
+def test_nodes_caster_agrees_with_the_bvh_caster_hit_for_hit(fresh_scene, flagged, domain):
+    """Distance, facing and the sealed flag of the hit triangle: here every odd triangle, so a caster
+    that read the flag of another triangle, or none, would disagree on half the hits; or, as the sealed test
+    flags them, whole pieces (of two Suzannes side by side, the second), which the caster keeps on the vertices."""
     mesh, _ = read_triangles(suzanne(1).data)
     origins, directions = random_rays(1, 4000)
-    flags = np.arange(len(mesh.triangles)) % 2 == 1
-    nodes = NodesCaster(mesh.positions, mesh.triangles, flags)
+    positions, triangles = mesh.positions, mesh.triangles
+    if flagged == "triangle":
+        flags = np.arange(len(triangles)) % 2 == 1
+    else:
+        positions = np.concatenate([positions - (0.7, 0.0, 0.0), positions + (0.7, 0.0, 0.0)])
+        triangles = np.concatenate([triangles, triangles + len(mesh.positions)])
+        flags = np.arange(len(triangles)) >= len(mesh.triangles)
+    nodes = NodesCaster(positions, triangles, flags)
     try:
+        assert nodes.occluder.data.attributes["sealed"].domain == domain
         distance, facing, sealed = nodes.cast(origins, directions, 2.0)
     finally:
         nodes.free()
-    expected_distance, expected_facing, expected_sealed = BVHCaster(mesh.positions, mesh.triangles, flags).cast(
+    expected_distance, expected_facing, expected_sealed = BVHCaster(positions, triangles, flags).cast(
         origins, directions, 2.0)
     hit = np.isfinite(expected_distance)
     assert 500 < hit.sum() < 3500
