@@ -145,6 +145,14 @@ class BVHCaster(RayCaster):
         self.tree = BVHTree.FromPolygons(positions.tolist(), triangles.tolist(), all_triangles=True)
         self.sealed = np.zeros(len(triangles), dtype=bool) if sealed is None else np.asarray(sealed, dtype=bool)
 
+    @classmethod
+    def of_tree(cls, tree, sealed):
+        """A caster over a ``mathutils.bvhtree.BVHTree`` built elsewhere (the Blender side builds one from an
+        object), whose hits' indices are into ``sealed`` (n,) bool."""
+        caster = cls.__new__(cls)
+        caster.tree, caster.sealed = tree, np.asarray(sealed, dtype=bool)
+        return caster
+
     def cast(self, origins, directions, max_distance):
         from mathutils import Vector
 

@@ -11,8 +11,11 @@ context override, so the user's scenes, objects and undo history are never
 touched; :meth:`NodesCaster.free` removes every datablock it made.
 
 Same interface as :class:`...core.rays.ray_setup.BVHCaster`; same BVH underneath (Blender's),
-but the node evaluates the rays on all cores.
+but the node evaluates the rays on all cores.  Blender 4.2 and 4.3 build that BVH again at every evaluation
+(:data:`RAYCAST_KEEPS_BVH`): there small batches are cast one ray at a time on a ``mathutils`` BVH built once.
 """
+
+import os
 
 import bpy
 import numpy as np
@@ -29,6 +32,18 @@ from .mesh_data import mesh_from_triangles, remove_present
 #: triangles the batch's first cast took longer than one ray's and the batch's after it together (4.2 and 5.2
 #: take as long either way).  One ray costs one more evaluation, which a small occluder's BVH does not repay.
 BUILD_ALONE_FROM_TRIANGLES = 1 << 16
+#: Whether the Raycast node keeps its target's BVH from one evaluation to the next.  Blender 4.2 and 4.3 cast
+#: against a copy of the target made at each evaluation, which keeps no BVH: every batch builds it anew (a batch of
+#: 1,000 rays took 0.23 s at a million triangles in 4.2, 4 to 6 ms in 4.4 to 5.2), and a one-ray build before the
+#: first batch only adds one more (tests/bench/bench_raycast_evaluations.py).
+RAYCAST_KEEPS_BVH = bpy.app.version >= (4, 4, 0)
+#: Where it does not, a batch of fewer rays than this many per occluder triangle, on 2 cores, is cast one ray at
+#: a time on a ``mathutils`` BVH of the occluder built once (:meth:`NodesCaster.cast`): below it, the BVH the node
+#: builds costs more than what its cores save on the rays (on 2 cores a ray alone took longer than in the node on a
+#: smooth Suzanne, and less on a noisy scan).  Cast so, the cheapest bake of the 250k- and 1M-triangle
+#: Suzannes in 4.2 took 0.89 and 0.83 times as long as with every batch through the node (the same bench).  With
+#: more cores the node's share of each falls, and so does this (:func:`single_rays_below`; not measured here).
+SINGLE_RAYS_PER_TRIANGLE = 0.1
 
 
 class NodesCaster(RayCaster):
@@ -73,7 +88,13 @@ class NodesCaster(RayCaster):
         self.scene.collection.objects.link(self.occluder)
         # Hide the occluder from the render, it only serves as the node's target.
         self.occluder.hide_render = True
-        self.build_alone = len(triangles) >= BUILD_ALONE_FROM_TRIANGLES
+        self.build_alone = RAYCAST_KEEPS_BVH and len(triangles) >= BUILD_ALONE_FROM_TRIANGLES
+        # where the node builds its BVH at every batch, small batches go to one mathutils BVH (of the faces)
+        self.single_rays_below = 0 if RAYCAST_KEEPS_BVH else single_rays_below(len(triangles))
+        if self.single_rays_below:
+            self.face_sealed = np.zeros(len(occluder_mesh.polygons), dtype=bool)
+            self.face_sealed[triangle_face] = flag > 0.5
+        self.single = None
         self.points = None
         self._set_up_raycast()
 
@@ -108,6 +129,7 @@ class NodesCaster(RayCaster):
         self._datablocks = [block for block in self._datablocks if block not in released]
         bpy.data.batch_remove(released)
         self.points = self.points_mesh = self.group = self.cast_node = None
+        self.single = None
 
     def cast(self, origins, directions, max_distance):
         if self.points is None:
@@ -117,6 +139,8 @@ class NodesCaster(RayCaster):
         facing = np.zeros(count)
         if not count:
             return distance, facing, np.zeros(count, dtype=bool)
+        if count < self.single_rays_below:                         # see SINGLE_RAYS_PER_TRIANGLE
+            return self._single_caster().cast(origins, directions, max_distance)
         if not self.bvh_built and self.build_alone and count > 1:
             self._evaluate(origins[:1], directions[:1], max_distance)       # see BUILD_ALONE_FROM_TRIANGLES
         hit = self._evaluate(origins, directions, max_distance)
@@ -124,6 +148,17 @@ class NodesCaster(RayCaster):
         distance[found] = hit[found, 0]
         facing[found] = hit[found, 1]
         return distance, facing, found & (hit[:, 2] > 0.5)
+
+    def _single_caster(self):
+        """Core's caster over a ``mathutils`` BVH of the occluder as evaluated (its hits are its faces), built at
+        the first use."""
+        if self.single is None:
+            from mathutils.bvhtree import BVHTree
+
+            with bpy.context.temp_override(scene=self.scene, view_layer=self.scene.view_layers[0]):
+                depsgraph = bpy.context.evaluated_depsgraph_get()
+            self.single = BVHCaster.of_tree(BVHTree.FromObject(self.occluder, depsgraph), self.face_sealed)
+        return self.single
 
     def _evaluate(self, origins, directions, max_distance):
         """(k, 3) float32 ``hit`` of rays from ``origins`` along ``directions`` (k, 3): the node group evaluated once
@@ -150,6 +185,14 @@ class NodesCaster(RayCaster):
     def free(self):
         """Remove every temporary datablock (safe to call twice)."""
         free_casters([self])
+
+
+def single_rays_below(triangles, cores=None):
+    """Batches of fewer rays than this are cast one ray at a time on an occluder of ``triangles`` where the node
+    builds its BVH at every batch: :data:`SINGLE_RAYS_PER_TRIANGLE` a triangle on 2 cores, shrunk as the node's
+    work is shared by more (``cores``: the machine's by default)."""
+    cores = max(1, cores if cores is not None else (os.cpu_count() or 1))
+    return SINGLE_RAYS_PER_TRIANGLE * triangles * min(1.0, 2.0 / cores)
 
 
 def vertex_flags(vertex_count, triangles, flag):
@@ -195,6 +238,8 @@ def free_casters(casters):
         datablocks += getattr(caster, "_datablocks", ())
         if hasattr(caster, "_datablocks"):
             caster._datablocks.clear()
+        if getattr(caster, "single", None) is not None:           # a mathutils BVH (NodesCaster._single_caster)
+            caster.single = None
     remove_present(datablocks)
 
 

@@ -142,11 +142,12 @@ def print_result(value):
     print(RESULT + json.dumps(value), flush=True)
 
 
-def child_result(script, *arguments, timeout=3600):
-    """Run the bench ``script`` with ``arguments`` in a process of its own; what it handed back with
+def child_result(script, *arguments, timeout=3600, python=None):
+    """Run the bench ``script`` with ``arguments`` in a process of its own (of ``python``, by default this one's
+    interpreter: another Blender's virtualenv runs it in that Blender); what it handed back with
     :func:`print_result` (its last such line).  Raises RuntimeError, with the end of its stderr, where it
     failed or handed back nothing."""
-    proc = subprocess.run([sys.executable, str(pathlib.Path(script).resolve()), *arguments],
+    proc = subprocess.run([str(python or sys.executable), str(pathlib.Path(script).resolve()), *arguments],
                           capture_output=True, text=True, timeout=timeout)
     lines = [line for line in proc.stdout.splitlines() if line.startswith(RESULT)]
     if proc.returncode != 0 or not lines:

@@ -75,7 +75,8 @@ def test_nodes_caster_agrees_with_the_bvh_caster_hit_for_hit(fresh_scene, flagge
 def test_a_big_occluders_bvh_is_built_by_one_ray_before_its_first_batch_and_changes_no_hit(fresh_scene, monkeypatch):
     """From BUILD_ALONE_FROM_TRIANGLES (made small here) the first batch is preceded by a cast of its first ray
     alone, once per BVH: again after the Raycast set-up is let go of (the occluder's copy drops the BVH).  The
-    hits are those of a caster that casts the batch at once."""
+    hits are those of a caster that casts the batch at once.  (Where the node keeps its BVH: 4.4 on.)"""
+    monkeypatch.setattr(casters, "RAYCAST_KEEPS_BVH", True)
     mesh, _ = read_triangles(suzanne(1).data)
     origins, directions = random_rays(2, 3000)
     flags = np.arange(len(mesh.triangles)) % 3 == 0
@@ -106,12 +107,59 @@ def test_a_big_occluders_bvh_is_built_by_one_ray_before_its_first_batch_and_chan
     assert np.isfinite(below_hits[0]).sum() > 500
 
 
-def test_a_caster_given_the_copy_of_what_was_read_hits_what_a_mesh_built_anew_hits(fresh_scene):
+def test_where_the_node_builds_its_bvh_at_every_batch_small_batches_are_cast_one_ray_at_a_time(fresh_scene,
+                                                                                                 monkeypatch):
+    """Blender 4.2 and 4.3 (made so here): no one-ray build before the first batch (it would only build the BVH
+    once more); a batch under single_rays_below (here 1000) rays is cast on one mathutils BVH, built at the
+    first such batch and let go of with the Raycast set-up, and hits what the node hits."""
+    monkeypatch.setattr(casters, "RAYCAST_KEEPS_BVH", False)
+    monkeypatch.setattr(casters, "BUILD_ALONE_FROM_TRIANGLES", 1)
+    mesh, _ = read_triangles(suzanne(1).data)
+    monkeypatch.setattr(casters, "single_rays_below", lambda triangles: 1000)
+    origins, directions = random_rays(4, 3000)
+    flags = np.arange(len(mesh.triangles)) % 2 == 1
+    caster = NodesCaster(mesh.positions, mesh.triangles, flags)
+    evaluated = []
+    evaluate = caster._evaluate
+    caster._evaluate = lambda o, d, m: evaluated.append(len(o)) or evaluate(o, d, m)
+    try:
+        batch = caster.cast(origins, directions, 2.0)
+        single = [caster.cast(origins[:500], directions[:500], 2.0)]
+        tree = caster.single.tree
+        single.append(caster.cast(origins[500:999], directions[500:999], 2.0))
+        assert evaluated == [3000] and caster.single.tree is tree                  # one mathutils BVH
+        caster._release_raycast()
+        assert caster.single is None
+    finally:
+        caster.free()
+    distance, facing, sealed = (np.concatenate(parts) for parts in zip(*single))
+    hit = np.isfinite(batch[0][:999])
+    assert 100 < hit.sum() < 900 and 0.3 < batch[2][:999][hit].mean() < 0.7
+    agree = (np.isfinite(distance) == hit) & (sealed == batch[2][:999])
+    agree[hit] &= np.isclose(distance[hit], batch[0][:999][hit], rtol=1e-4, atol=1e-5)
+    agree[hit] &= np.sign(facing[hit]) == np.sign(batch[1][:999][hit])
+    assert agree.mean() > 0.995, agree.mean()
+
+
+def test_single_rays_take_batches_of_up_to_a_tenth_of_the_triangles_on_two_cores_and_fewer_on_more():
+    assert casters.single_rays_below(1_000_000, cores=2) == pytest.approx(100_000)
+    assert casters.single_rays_below(1_000_000, cores=1) == pytest.approx(100_000)
+    assert casters.single_rays_below(1_000_000, cores=8) == pytest.approx(25_000)
+    assert casters.single_rays_below(1_000_000) > 0
+
+
+@pytest.mark.parametrize("single", [False, True], ids=["node", "single rays"])
+def test_a_caster_given_the_copy_of_what_was_read_hits_what_a_mesh_built_anew_hits(fresh_scene, monkeypatch, single):
     """Suzanne subdivided once (quads: Blender's triangulation of them is what the bake read), a flag per
     piece: a caster that takes over the copy of her evaluated mesh (moved to ray space: here 3 units and
     turned) hits what a caster of a mesh built from the triangles hits, sealed flags included, to the bit; the
-    copy is gone when the caster is freed."""
+    copy is gone when the caster is freed.  Also where the node would build its BVH at every batch and each
+    batch is cast one ray at a time (a mathutils BVH of the faces, quads or triangles)."""
     import bpy
+
+    if single:
+        monkeypatch.setattr(casters, "RAYCAST_KEEPS_BVH", False)
+        monkeypatch.setattr(casters, "single_rays_below", lambda triangles: np.inf)
 
     from seamless_ao.core.mesh.weld import vertex_pieces
     from seamless_ao.operators.adapters.mesh_data import occluder_copy, read_object
@@ -131,6 +179,7 @@ def test_a_caster_given_the_copy_of_what_was_read_hits_what_a_mesh_built_anew_hi
     hits = []
     for source in (None, occluder_copy(head, depsgraph, arrays)):
         caster = NodesCaster(positions, triangles, sealed, source=source)
+        caster._evaluate = None if single else caster._evaluate         # single rays never evaluate the node
         try:
             hits.append(caster.cast(origins, directions, 2.0))
         finally:
