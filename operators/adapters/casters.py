@@ -41,7 +41,7 @@ RAYCAST_KEEPS_BVH = bpy.app.version >= (4, 4, 0)
 #: a time on a ``mathutils`` BVH of the occluder built once (:meth:`NodesCaster.cast`): below it, the BVH the node
 #: builds costs more than what its cores save on the rays (on 2 cores a ray alone took longer than in the node on a
 #: smooth Suzanne, and less on a noisy scan).  Cast so, the cheapest bake of the 250k- and 1M-triangle
-#: Suzannes in 4.2 took 0.89 and 0.83 times as long as with every batch through the node (the same bench).  With
+#: Suzannes in 4.2 took 0.86 and 0.78 times as long as with every batch through the node (the same bench).  With
 #: more cores the node's share of each falls, and so does this (:func:`single_rays_below`; not measured here).
 SINGLE_RAYS_PER_TRIANGLE = 0.1
 

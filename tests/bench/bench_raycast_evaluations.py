@@ -1,5 +1,7 @@
-"""Benchmark: does the Raycast node keep its BVH from one evaluation to the next, by Blender version, and what
-casting small batches one ray at a time saves where it does not.
+"""Benchmark: The Raycast node's BVH from one batch to the next, by Blender version.
+
+Does Blender's Geometry Nodes Raycast node keep its target's BVH from one evaluation to the next, and what does
+casting small batches one ray at a time save where it does not.
 
     .venv/5.0/bin/python tests/bench/bench_raycast_evaluations.py [--runs 3] [--blenders 4.2 5.0 5.2 PYTHON ...]
 
