@@ -34,14 +34,14 @@ from .mesh_data import mesh_from_triangles, remove_present
 BUILD_ALONE_FROM_TRIANGLES = 1 << 16
 #: Whether the Raycast node keeps its target's BVH from one evaluation to the next.  Blender 4.2 and 4.3 cast
 #: against a copy of the target made at each evaluation, which keeps no BVH: every batch builds it anew (a batch of
-#: 1,000 rays took 0.23 s at a million triangles in 4.2, 4 to 6 ms in 4.4 to 5.2), and a one-ray build before the
+#: 1,000 rays took 0.21 s at a million triangles in 4.2, 5 to 8 ms in 4.4 to 5.2), and a one-ray build before the
 #: first batch only adds one more (tests/bench/bench_raycast_evaluations.py).
 RAYCAST_KEEPS_BVH = bpy.app.version >= (4, 4, 0)
 #: Where it does not, a batch of fewer rays than this many per occluder triangle, on 2 cores, is cast one ray at
 #: a time on a ``mathutils`` BVH of the occluder built once (:meth:`NodesCaster.cast`): below it, the BVH the node
 #: builds costs more than what its cores save on the rays (on 2 cores a ray alone took longer than in the node on a
 #: smooth Suzanne, and less on a noisy scan).  Cast so, the cheapest bake of the 250k- and 1M-triangle
-#: Suzannes in 4.2 took 0.86 and 0.78 times as long as with every batch through the node (the same bench).  With
+#: Suzannes in 4.2 took 0.86 and 0.74 times as long as with every batch through the node (the same bench).  With
 #: more cores the node's share of each falls, and so does this (:func:`single_rays_below`; not measured here).
 SINGLE_RAYS_PER_TRIANGLE = 0.1
 
