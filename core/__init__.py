@@ -21,6 +21,7 @@ module                              what it holds
 :mod:`.freed_memory`                memory a big bake freed: held for its next stage, handed back before Cycles
 **mesh** (``core/mesh/``)
 :mod:`.mesh.triangle_mesh`          triangle meshes, normals, the mesh report
+:mod:`.mesh.corner_values`          values at triangle corners, held at the mesh's own corners
 :mod:`.mesh.weld`                   vertices at one position, or within a tolerance, made one
 :mod:`.mesh.adjacency`              faces that share an edge (sorted edge keys)
 :mod:`.mesh.extent`                 a mesh's size, a stray spike left out

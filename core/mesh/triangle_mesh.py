@@ -12,6 +12,7 @@ import numpy as np
 from ..arrays.graph import scatter_rows, sort_order
 from ..arrays.reduce import row_length
 from ..errors import SeamlessAOError
+from .corner_values import CornerValues
 from .extent import box_size, mesh_size, robust_box
 from .weld import vertex_pieces
 
@@ -31,7 +32,7 @@ class MeshArrays:
     positions: np.ndarray        # (v, 3)
     triangles: np.ndarray        # (t, 3)
     triangle_face: np.ndarray    # (t,)
-    normals_as_read: np.ndarray  # (t, 3, 3) corner normals, as read (not yet sanitised)
+    normals_as_read: np.ndarray  # (t, 3, 3) corner normals, as read (not yet sanitised), or their CornerValues
     face_count: int = 0
     vertex_island: np.ndarray = None     # (v,) int, optional
     side_edge: np.ndarray = None         # (t, 3) int, optional
@@ -58,7 +59,7 @@ class TriangleMesh:
         Vertex indices of each triangle, counter-clockwise seen from its front.
     triangle_face : (t,) int64
         Face (polygon) of each triangle; faces are numbered ``0 .. f-1``.
-    normals_as_read : (t, 3, 3) float
+    normals_as_read : (t, 3, 3) float, or :class:`CornerValues` of them
         Shading normal at each triangle corner (flat faces: the face normal),
         as given: Blender's are float32, and some may be zero or not finite.
     vertex_island : (v,) int or None
@@ -101,9 +102,9 @@ class TriangleMesh:
         a bake asks :meth:`corner_height_of` the triangles it needs.
     longest_side : (t,) float64
         Twice each triangle's area over its least ``corner_height``: its
-        longest side (0 for a degenerate one), kept (the density estimate
-        reads all of them, and working the heights out again took 0.2 to
-        0.4 s at a million triangles).
+        longest side (0 for a degenerate one), worked out at the first use
+        and kept (the density estimate of a mesh laid out whole reads all of
+        them; one laid out on a proxy never does).
     """
 
     positions: np.ndarray
@@ -120,7 +121,7 @@ class TriangleMesh:
     part_of_vertex: np.ndarray = field(init=False, repr=False, default=None)
     part_scale: np.ndarray = field(init=False, repr=False, default=None)
     _cross: np.ndarray = field(init=False, repr=False, default=None)
-    longest_side: np.ndarray = field(init=False, repr=False, default=None)
+    _longest_side: np.ndarray = field(init=False, repr=False, default=None)
     triangle_area: np.ndarray = field(init=False, repr=False, default=None)
     triangle_normal: np.ndarray = field(init=False, repr=False, default=None)
     degenerate: np.ndarray = field(init=False, repr=False, default=None)
@@ -130,9 +131,14 @@ class TriangleMesh:
         self.positions = np.ascontiguousarray(self.positions, dtype=np.float64).reshape(-1, 3)
         self.triangles = np.ascontiguousarray(self.triangles, dtype=np.int64).reshape(-1, 3)
         self.triangle_face = np.ascontiguousarray(self.triangle_face, dtype=np.int64).reshape(-1)
-        normals = np.asarray(self.normals_as_read)
-        self.normals_as_read = np.ascontiguousarray(
-            normals, dtype=normals.dtype if normals.dtype in (np.float32, np.float64) else np.float64).reshape(-1, 3, 3)
+        if isinstance(self.normals_as_read, CornerValues):                  # gathered where read
+            if self.normals_as_read.shape[1:] != (3, 3):
+                raise ValueError("normals_as_read must hold a 3-vector at each triangle corner")
+        else:
+            normals = np.asarray(self.normals_as_read)
+            self.normals_as_read = np.ascontiguousarray(
+                normals, dtype=normals.dtype if normals.dtype in (np.float32, np.float64) else np.float64
+            ).reshape(-1, 3, 3)
         t = len(self.triangles)
         if len(self.triangle_face) != t or len(self.normals_as_read) != t:
             raise ValueError("triangles, triangle_face and normals_as_read must have the same length")
@@ -155,15 +161,9 @@ class TriangleMesh:
         self.scale = box_size(low, high) if t else mesh_size(self.positions)
         self.part_of_vertex = np.zeros(len(self.positions), dtype=np.int64)
         self.part_scale = np.array([self.scale])
-        first, second, third = _corner_columns(self.positions, self.triangles)
-        self._cross = _cross_of_corners(first, second, third)
+        self._cross = _cross_of_corners(*_corner_columns(self.positions, self.triangles))
         length = row_length(self._cross)
         self.triangle_area = 0.5 * length
-        # the least of the three heights is over the longest side (a division rounds monotonically: the same bits)
-        longest = np.maximum(np.maximum(_distance(third, second), _distance(first, third)), _distance(second, first))
-        del first, second, third
-        least_height = length / np.maximum(longest, 1e-300)
-        self.longest_side = 2.0 * self.triangle_area / np.maximum(least_height, 1e-300)
         self.degenerate = self.triangle_area <= DEGENERATE_AREA * self.scale**2
         self.triangle_normal = np.zeros_like(self._cross)
         np.divide(self._cross, length[:, None], out=self.triangle_normal, where=~self.degenerate[:, None])
@@ -229,6 +229,20 @@ class TriangleMesh:
         self._cross = None
 
     @property
+    def longest_side(self):
+        """See the class; worked out at the first use, then kept."""
+        if self._longest_side is None:
+            first, second, third = _corner_columns(self.positions, self.triangles)
+            # the least of the three heights is over the longest side (a division rounds monotonically: the
+            # same bits)
+            longest = np.maximum(np.maximum(_distance(third, second), _distance(first, third)),
+                                 _distance(second, first))
+            del first, second, third
+            least_height = row_length(self.triangle_cross) / np.maximum(longest, 1e-300)
+            self._longest_side = 2.0 * self.triangle_area / np.maximum(least_height, 1e-300)
+        return self._longest_side
+
+    @property
     def vertex_piece(self):
         """(v,) int64: the piece of every vertex (:func:`.weld.vertex_pieces`), worked out at the first use and
         kept (8 bytes a vertex): a bake's proxy layout and its sealed test both read it, and it took 0.25 s a
@@ -274,14 +288,13 @@ class TriangleMesh:
         (clustering reads it once; 24 bytes a face kept would last through the bake).
         """
         if len(self.part_scale) == 1 and np.array_equal(self.triangle_face, np.arange(len(self.triangles))):
-            # a face per triangle, in order: the sum is the triangle's own cross product
-            # (+ 0.0: what adding it to a zero makes of a -0.0)
-            summed = self.triangle_cross + 0.0
-            face_scale = self.part_scale[0]
-        else:
-            summed = scatter_rows(np.add, np.zeros((self.face_count, 3)), self.triangle_face, self.triangle_cross)
-            face_scale = np.zeros(self.face_count)
-            face_scale[self.triangle_face] = self.triangle_scale
+            # a face per triangle, in order: the sum is the triangle's own cross product, so the face's normal is
+            # the triangle's (the same test of its length, the same division; + 0.0: what adding the cross
+            # product to a zero makes of a -0.0)
+            return self.triangle_normal + 0.0
+        summed = scatter_rows(np.add, np.zeros((self.face_count, 3)), self.triangle_face, self.triangle_cross)
+        face_scale = np.zeros(self.face_count)
+        face_scale[self.triangle_face] = self.triangle_scale
         length = row_length(summed)
         ok = length > 2.0 * DEGENERATE_AREA * face_scale**2
         return np.divide(summed, length[:, None], out=np.zeros_like(summed), where=ok[:, None])

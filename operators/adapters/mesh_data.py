@@ -15,6 +15,7 @@ import numpy as np
 
 from ...core.arrays.graph import index_type
 from ...core.keys import STACK_MODIFIER, TEMP_PREFIX
+from ...core.mesh.corner_values import CornerValues
 from ...core.mesh.triangle_mesh import MeshArrays, boxes_near
 from ...core.rays.ray_setup import world_winding
 from ...shaders.island_nodes import ISLAND_ATTRIBUTE, island_group
@@ -266,9 +267,10 @@ def triangle_side_edges(mesh, loops, polygon):
                     corner_edge[loops].astype(number))
 
 
-def read_mesh_arrays(mesh):
+def read_mesh_arrays(mesh, corners=None):
     """A ``bpy.types.Mesh`` as :class:`~..core.mesh.triangle_mesh.MeshArrays`, in object space: one ``foreach_get`` per
-    attribute, nothing worked out from them yet.
+    attribute, nothing worked out from them yet (its vertices and corners from ``corners``, its
+    :class:`EvaluatedCorners` if already read).
 
     Returns
     -------
@@ -285,11 +287,13 @@ def read_mesh_arrays(mesh):
     if len(mesh.loops):
         mesh.corner_normals.foreach_get("vector", corner_normals)
     polygon = triangle_polygons(mesh, count)
+    positions, corner_vert = ((corners.positions, corners.corner_vert) if corners is not None else
+                              (vertex_positions(mesh).reshape(-1, 3), loop_vertices(mesh)))
     arrays = MeshArrays(
-        vertex_positions(mesh).reshape(-1, 3),
-        loop_vertices(mesh).astype(np.int64)[loops],
+        positions,
+        corner_vert.astype(np.int64)[loops],
         polygon,
-        corner_normals.reshape(-1, 3)[loops] if count else np.zeros((0, 3, 3), dtype=np.float32),
+        CornerValues(corner_normals.reshape(-1, 3), loops),                # gathered for the texels only
         face_count=len(mesh.polygons),
         side_edge=triangle_side_edges(mesh, loops, polygon),
     )
@@ -372,8 +376,8 @@ def read_object(ob, depsgraph):
     :class:`EvaluatedCorners`, and whether its corners are its base mesh's (the bake's UV maps can then be written
     on the base mesh, which deforming modifiers carry through)."""
     with evaluated_mesh(ob, depsgraph) as mesh:
-        arrays, loops = read_mesh_arrays(mesh)
         corners = EvaluatedCorners.of(mesh)
+        arrays, loops = read_mesh_arrays(mesh, corners)
     return arrays, loops, corners, corners.same_as(ob.data)
 
 

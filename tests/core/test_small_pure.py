@@ -11,7 +11,7 @@ from seamless_ao.core.errors import SeamlessAOError
 from seamless_ao.core.export.transfer import sample_repeat, texel_uv, vertex_average
 from seamless_ao.core.arrays import blocks
 from seamless_ao.core.arrays.graph import Adjacency, sort_order
-from seamless_ao.core.mesh.triangle_mesh import TriangleMesh, duplicate_triangle_count, sanitized_normals
+from seamless_ao.core.mesh.triangle_mesh import duplicate_triangle_count, sanitized_normals
 from seamless_ao.core.mesh.weld import weld_vertices
 from seamless_ao.core.charts.candidates import candidate_pairs, without_flat_groups, without_quiet_sides
 from seamless_ao.core.arrays.geometry2d import segment_distance, triangle_angles
@@ -125,29 +125,6 @@ def test_triangle_angles_are_the_law_of_cosines_angles_and_sum_to_pi():
     # both windings, and a right angle where the corners say so
     square = triangle_angles(np.array([[[0.0, 0.0], [2.0, 0.0], [0.0, 1.0]], [[0.0, 0.0], [0.0, 1.0], [2.0, 0.0]]]))
     assert np.allclose(square[:, 0], np.pi / 2) and np.allclose(square[0, 1:], square[1, [2, 1]])
-
-
-def test_what_the_mesh_works_out_per_use_has_the_same_bits_for_any_subset_and_after_it_let_go():
-    """TriangleMesh keeps its unit normals, heights and cross products only as far as it must (normals as read,
-    heights not at all, the cross product until the layout lets go): what a pass asks for, for any subset of
-    triangles, is what the whole mesh's arrays hold there, bit for bit, and so is the cross product worked out
-    again.  float32 normals as read (Blender's) with broken ones included."""
-    rng = np.random.default_rng(3)
-    positions = rng.normal(0, 1, (60, 3))
-    triangles = np.array([rng.choice(60, 3, replace=False) for _ in range(200)])
-    triangles[:5, 1] = triangles[:5, 0]                                     # degenerate triangles
-    read = rng.normal(0, 1, (200, 3, 3)).astype(np.float32)
-    read[7, 1], read[9, 2, 0] = 0.0, np.nan
-    mesh = TriangleMesh(positions, triangles, np.arange(200), read)
-    assert mesh.normals_as_read.dtype == np.float32 and mesh.normals_as_read.shape == (200, 3, 3)
-    normals, height, cross = mesh.corner_normals, mesh.corner_height, mesh.triangle_cross.copy()
-    assert np.isfinite(normals).all() and np.allclose(np.linalg.norm(normals, axis=2), 1.0)
-    assert (height[:5] == 0.0).all() and (height[5:] > 0.0).all()
-    subset = rng.permutation(200)[:37]
-    assert np.array_equal(mesh.normals_of(subset), normals[subset])
-    assert np.array_equal(mesh.corner_height_of(subset), height[subset])
-    mesh.let_go_of_cross()
-    assert mesh._cross is None and np.array_equal(mesh.triangle_cross, cross)
 
 
 def test_sanitized_normals_are_unit_and_replace_only_what_cannot_be_a_normal():
