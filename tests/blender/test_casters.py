@@ -19,6 +19,14 @@ def random_rays(seed, count, centre=(0.0, 0.0, 0.0)):
     return origins, directions / np.linalg.norm(directions, axis=1, keepdims=True)
 
 
+def counted_caster(positions, triangles, flags):
+    """A NodesCaster and the list it appends the ray count of each evaluation of its node to."""
+    caster, evaluated = NodesCaster(positions, triangles, flags), []
+    evaluate = caster._evaluate
+    caster._evaluate = lambda o, d, m: evaluated.append(len(o)) or evaluate(o, d, m)
+    return caster, evaluated
+
+
 def test_nodes_caster_hits_a_plane_where_the_closed_form_says(fresh_scene):
     """Rays from z = 0 to a plane z = 1 facing down: distance 1 / cos(theta), front face; the plane is
     missed by rays longer than the maximum distance."""
@@ -83,10 +91,7 @@ def test_a_big_occluders_bvh_is_built_by_one_ray_before_its_first_batch_and_chan
     results = {}
     for least in (len(mesh.triangles) + 1, len(mesh.triangles)):
         monkeypatch.setattr(casters, "BUILD_ALONE_FROM_TRIANGLES", least)
-        caster = NodesCaster(mesh.positions, mesh.triangles, flags)
-        evaluated = []
-        evaluate = caster._evaluate
-        caster._evaluate = lambda o, d, m: evaluated.append(len(o)) or evaluate(o, d, m)
+        caster, evaluated = counted_caster(mesh.positions, mesh.triangles, flags)
         try:
             first = caster.cast(origins, directions, 2.0)
             again = caster.cast(origins[:100], directions[:100], 2.0)
@@ -118,10 +123,7 @@ def test_where_the_node_builds_its_bvh_at_every_batch_small_batches_are_cast_one
     monkeypatch.setattr(casters, "single_rays_below", lambda triangles: 1000)
     origins, directions = random_rays(4, 3000)
     flags = np.arange(len(mesh.triangles)) % 2 == 1
-    caster = NodesCaster(mesh.positions, mesh.triangles, flags)
-    evaluated = []
-    evaluate = caster._evaluate
-    caster._evaluate = lambda o, d, m: evaluated.append(len(o)) or evaluate(o, d, m)
+    caster, evaluated = counted_caster(mesh.positions, mesh.triangles, flags)
     try:
         batch = caster.cast(origins, directions, 2.0)
         single = [caster.cast(origins[:500], directions[:500], 2.0)]
