@@ -27,21 +27,25 @@ def corner_uv(corner_count, loops, axis_uv):
     """(3 layers, corner_count, 2) float32: the triangles' UVs ``axis_uv`` (three (t, 3, 2)) on the mesh's
     corners, ``loops`` (t, 3) saying which corner each triangle corner is."""
     per_corner = np.empty((3, corner_count, 2), dtype=np.float32)
-    for axis in range(3):
-        per_corner[axis] = layer_on_corners(corner_count, loops, axis_uv[axis])
+    for axis, uv in enumerate(layers_on_corners(corner_count, loops, axis_uv)):
+        per_corner[axis] = uv
     return per_corner
 
 
-def layer_on_corners(corner_count, loops, triangle_uv):
-    """(corner_count, 2) float32: one layer's triangle UVs ``triangle_uv`` (t, 3, 2) on the mesh's corners, ``loops``
-    (t, 3) saying which corner each triangle corner is.  An all-triangle mesh's triangles are its corners in order
-    (mesh_data.triangle_loops): its UVs are the layer as it is, with no scatter."""
+def layers_on_corners(corner_count, loops, layer_uvs):
+    """Each layer's triangle UVs of ``layer_uvs`` (each (t, 3, 2)) on the mesh's corners, (corner_count, 2)
+    float32, one layer at a time; ``loops`` (t, 3) says which corner each triangle corner is.  An all-triangle
+    mesh's triangles are its corners in order (mesh_data.triangle_loops): its UVs are each layer as it is, with
+    no scatter (tested once for all the layers)."""
     loops = np.asarray(loops)
-    if loops.size == corner_count and bool((loops.ravel() == np.arange(corner_count)).all()):
-        return np.asarray(triangle_uv, dtype=np.float32).reshape(-1, 2)
-    uv = np.zeros((corner_count, 2), dtype=np.float32)
-    put_pairs(uv, loops, triangle_uv)
-    return uv
+    in_order = loops.size == corner_count and bool((loops.ravel() == np.arange(corner_count)).all())
+    for triangle_uv in layer_uvs:
+        if in_order:
+            yield np.asarray(triangle_uv, dtype=np.float32).reshape(-1, 2)
+        else:
+            uv = np.zeros((corner_count, 2), dtype=np.float32)
+            put_pairs(uv, loops, triangle_uv)
+            yield uv
 
 
 class Transaction:
@@ -138,8 +142,7 @@ class Transaction:
         layers = mesh.uv_layers
         active = layers.active.name if layers.active is not None else None
         render = next((uv.name for uv in layers if uv.active_render), None)
-        for axis, name in enumerate(AO_LAYERS):
-            uv = layer_on_corners(len(mesh.loops), loops, axis_uv[axis])
+        for name, uv in zip(AO_LAYERS, layers_on_corners(len(mesh.loops), loops, axis_uv)):
             layer = layers.get(name)
             if layer is None:
                 layer = layers.new(name=name, do_init=False)
